@@ -1,0 +1,6 @@
+from catkin_pkg.python_setup import generate_distutils_setup
+from setuptools import setup
+
+setup(**generate_distutils_setup(packages=["granular_tools", "granular_tools.simulation",
+                                           "granular_tools.visualization"],
+                                 package_dir={"": "src"}))

@@ -1,0 +1,1 @@
+"""Python (rospy) tools of the granular pipeline: drive simulation, bag conversion, reports."""

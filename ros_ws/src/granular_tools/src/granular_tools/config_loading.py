@@ -1,0 +1,77 @@
+"""Layer a YAML file over dataclass defaults, refusing unknown keys and wrong types.
+
+Every tool keeps its defaults in a dataclass; a YAML file only overrides them. Errors name the
+file and the dotted key so that a user can fix the file without reading code.
+"""
+import dataclasses
+import typing
+
+import yaml
+
+
+class ConfigError(ValueError):
+    """A configuration file or value that cannot be used; the message names file and key."""
+
+
+def _coerce(value, expected_type, where):
+    origin = typing.get_origin(expected_type)
+    if dataclasses.is_dataclass(expected_type):
+        if not isinstance(value, dict):
+            raise ConfigError(f"{where}: expected a mapping, got {type(value).__name__}")
+        return overlay(expected_type(), value, where)
+    if origin is dict:
+        key_type, value_type = typing.get_args(expected_type)
+        if not isinstance(value, dict):
+            raise ConfigError(f"{where}: expected a mapping, got {type(value).__name__}")
+        return {_coerce(k, key_type, f"{where}.{k}"): _coerce(v, value_type, f"{where}.{k}")
+                for k, v in value.items()}
+    if origin in (list, tuple):
+        (item_type, *_) = typing.get_args(expected_type)
+        if not isinstance(value, list):
+            raise ConfigError(f"{where}: expected a list, got {type(value).__name__}")
+        return origin(_coerce(v, item_type, f"{where}[{i}]") for i, v in enumerate(value))
+    if expected_type is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(f"{where}: expected a number, got {value!r}")
+        return float(value)
+    if expected_type is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{where}: expected an integer, got {value!r}")
+        return value
+    if expected_type is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if expected_type is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{where}: expected a string, got {value!r}")
+        return value
+    raise ConfigError(f"{where}: unsupported type {expected_type}")
+
+
+def overlay(defaults, values, where):
+    """Return a copy of dataclass `defaults` with `values` (a dict) laid over it."""
+    hints = typing.get_type_hints(type(defaults))
+    changes = {}
+    for key, value in values.items():
+        if key not in hints:
+            known = ", ".join(sorted(hints))
+            raise ConfigError(f"{where}: unknown key '{key}' (known keys: {known})")
+        changes[key] = _coerce(value, hints[key], f"{where}.{key}")
+    return dataclasses.replace(defaults, **changes)
+
+
+def load_yaml_over(defaults, path):
+    """Load `path` (YAML) over dataclass `defaults`; errors name the file and the key."""
+    try:
+        with open(path, encoding="utf-8") as stream:
+            values = yaml.safe_load(stream)
+    except OSError as error:
+        raise ConfigError(f"{path}: cannot read config: {error.strerror}") from error
+    except yaml.YAMLError as error:
+        raise ConfigError(f"{path}: not valid YAML: {error}") from error
+    if values is None:
+        return defaults
+    if not isinstance(values, dict):
+        raise ConfigError(f"{path}: expected a mapping at the top level")
+    return overlay(defaults, values, str(path))

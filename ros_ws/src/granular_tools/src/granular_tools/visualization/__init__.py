@@ -1,0 +1,1 @@
+"""rviz helpers: boxes of lgsvl_msgs detections as markers."""

@@ -2,5 +2,6 @@ from catkin_pkg.python_setup import generate_distutils_setup
 from setuptools import setup
 
 setup(**generate_distutils_setup(packages=["granular_tools", "granular_tools.simulation",
-                                           "granular_tools.visualization"],
+                                           "granular_tools.visualization",
+                                           "granular_tools.bag_to_files"],
                                  package_dir={"": "src"}))

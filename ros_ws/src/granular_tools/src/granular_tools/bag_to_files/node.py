@@ -1,0 +1,80 @@
+"""bag_to_files_node: the live mode, subscribing to a cloud and a detections topic."""
+import threading
+
+import rospy
+from lgsvl_msgs.msg import Detection3DArray
+from sensor_msgs.msg import PointCloud2
+
+from .config import BagToFilesConfig
+from .frames import OutputError, PairWriter, prepare_output
+from .pairing import Pairing
+from .pcd import CloudError
+
+SILENCE_WARNING_AFTER = 5.0  # s without a message on a topic before a warning
+
+
+def read_config():
+    defaults = BagToFilesConfig()
+    return BagToFilesConfig(
+        cloud_topic=rospy.get_param("~cloud_topic", defaults.cloud_topic),
+        detections_topic=rospy.get_param("~detections_topic", defaults.detections_topic),
+        slop=float(rospy.get_param("~slop", defaults.slop)),
+        queue_size=int(rospy.get_param("~queue_size", defaults.queue_size))).check()
+
+
+class BagToFilesNode:
+    def __init__(self):
+        self.out = rospy.get_param("~out")
+        self.config = read_config()
+        prepare_output(self.out, rospy.get_param("~overwrite", False))
+        writer = PairWriter(self.out)
+        self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write)
+        self._writer = writer
+        # Both subscriber threads feed one synchroniser; one lock keeps the counts exact.
+        self.lock = threading.Lock()
+        self.failed = None
+        rospy.Subscriber(self.config.cloud_topic, PointCloud2, self._on_cloud, queue_size=50)
+        rospy.Subscriber(self.config.detections_topic, Detection3DArray, self._on_detections,
+                         queue_size=100)
+        rospy.Timer(rospy.Duration(SILENCE_WARNING_AFTER), self._warn_if_silent, oneshot=True)
+        rospy.loginfo("bag_to_files: writing pairs of %s and %s (slop %.3f s) into %s",
+                      self.config.cloud_topic, self.config.detections_topic, self.config.slop,
+                      self.out)
+
+    def _write(self, cloud, detections):
+        try:
+            self._writer.write(cloud, detections)
+        except (CloudError, OSError) as error:
+            self.failed = error
+            rospy.signal_shutdown(f"cannot write a pair: {error}")
+
+    def _on_cloud(self, cloud):
+        with self.lock:
+            self.pairing.add_cloud(cloud)
+
+    def _on_detections(self, detections):
+        with self.lock:
+            self.pairing.add_detections(detections)
+
+    def _warn_if_silent(self, _event):
+        stats = self.pairing.stats
+        for topic, count in ((self.config.cloud_topic, stats.clouds),
+                             (self.config.detections_topic, stats.detection_messages)):
+            if count == 0:
+                rospy.logwarn("bag_to_files: nothing on %s after %.0f s; still waiting", topic,
+                              SILENCE_WARNING_AFTER)
+
+    def summary(self):
+        return self.pairing.stats.summary(self.config.slop)
+
+
+def main():
+    rospy.init_node("bag_to_files")
+    try:
+        node = BagToFilesNode()
+    except (KeyError, ValueError, OutputError) as error:
+        rospy.logfatal("bag_to_files: %s", error)
+        return 1
+    rospy.spin()
+    rospy.loginfo("bag_to_files: %s", node.summary())
+    return 1 if node.failed else 0

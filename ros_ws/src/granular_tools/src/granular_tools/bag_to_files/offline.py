@@ -1,0 +1,130 @@
+"""bag_to_files: the offline mode, reading a bag directly (no roscore), deterministically."""
+import argparse
+import dataclasses
+import os
+import shutil
+import sys
+import tempfile
+import time
+
+from .. import progress
+from ..config_loading import ConfigError, load_yaml_over
+from .config import BagToFilesConfig
+from .frames import OutputError, PairWriter, prepare_output
+from .pairing import Pairing, allow_without_node
+from .pcd import CloudError
+
+
+class BagError(ValueError):
+    """A bag that cannot be converted; the message names the bag and what is wrong."""
+
+
+def check_topics(bag, path, config):
+    topics = bag.get_type_and_topic_info().topics
+    expected = {config.cloud_topic: "sensor_msgs/PointCloud2",
+                config.detections_topic: "lgsvl_msgs/Detection3DArray"}
+    for topic, message_type in expected.items():
+        if topic not in topics:
+            held = ", ".join(f"{t} ({i.msg_type})" for t, i in sorted(topics.items())) or "none"
+            raise BagError(f"{path}: no topic {topic}; the bag has: {held}")
+        if topics[topic].msg_type != message_type:
+            raise BagError(f"{path}: {topic} carries {topics[topic].msg_type}, "
+                           f"expected {message_type}")
+    return topics[config.cloud_topic].message_count + \
+        topics[config.detections_topic].message_count
+
+
+def convert(bag_path, folder, config, reporter=None):
+    """Write every kept pair of `bag_path` into `folder` (which must be ready); return stats."""
+    import rosbag  # Imported here so that --help works without ROS on the path.
+
+    allow_without_node()
+    writer = PairWriter(folder)
+    pairing = Pairing(config.slop, config.queue_size, writer.write)
+    try:
+        bag = rosbag.Bag(bag_path)
+    except (OSError, rosbag.ROSBagException) as error:
+        raise BagError(f"{bag_path}: cannot read bag: {error}") from error
+    with bag:
+        total = check_topics(bag, bag_path, config)
+        # Messages in the order they were recorded, as `rosbag play` would publish them.
+        for done, (topic, message, _) in enumerate(
+                bag.read_messages(topics=[config.cloud_topic, config.detections_topic])):
+            if topic == config.cloud_topic:
+                pairing.add_cloud(message)
+            else:
+                pairing.add_detections(message)
+            if reporter is not None:
+                reporter(done + 1, total)
+    return pairing.stats
+
+
+def convert_into_new_folder(bag_path, out, config, overwrite, reporter=None):
+    """Convert into a temporary sibling of `out` and put it in place only when complete."""
+    out = os.path.abspath(out)
+    parent = os.path.dirname(out)
+    if not os.path.isdir(parent):
+        raise OutputError(f"{out}: folder {parent} does not exist")
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise OutputError(f"{out}: exists and is not a folder")
+    if os.path.isdir(out) and os.listdir(out) and not overwrite:
+        raise OutputError(f"{out}: already holds results; use --overwrite to replace them")
+    staging = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", suffix=".partial",
+                               dir=parent)
+    try:
+        prepare_output(staging, overwrite=False)
+        stats = convert(bag_path, staging, config, reporter)
+        if os.path.isdir(out):
+            retired = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", suffix=".old",
+                                       dir=parent)
+            os.replace(out, os.path.join(retired, "previous"))
+            os.replace(staging, out)
+            shutil.rmtree(retired)
+        else:
+            os.replace(staging, out)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return stats
+
+
+def main(argv=None):
+    defaults = BagToFilesConfig()
+    parser = argparse.ArgumentParser(
+        prog="bag_to_files",
+        description="Synchronise LiDAR clouds with lgsvl_msgs 3D detections straight from a bag "
+                    "(message_filters.ApproximateTimeSynchronizer, as the live node) and write "
+                    "OUT/pcd/<stamp>.pcd and OUT/detections_3d/<stamp>.json for every pair with "
+                    "at least one detection. Needs no roscore; the same bag gives the same files.")
+    parser.add_argument("--bag", required=True, help="bag to read")
+    parser.add_argument("--out", required=True, help="output folder (created; must not hold "
+                                                     "results unless --overwrite)")
+    parser.add_argument("--config", metavar="FILE.yaml",
+                        help="parameters laid over the defaults (see config/bag_to_files.yaml)")
+    parser.add_argument("--cloud-topic", help=f"default: {defaults.cloud_topic}")
+    parser.add_argument("--detections-topic", help=f"default: {defaults.detections_topic}")
+    parser.add_argument("--slop", type=float, metavar="SECONDS",
+                        help=f"most a pair's stamps may differ (default: {defaults.slop})")
+    parser.add_argument("--queue-size", type=int,
+                        help=f"synchroniser queue per topic (default: {defaults.queue_size})")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an output folder that already holds results")
+    parser.add_argument("--quiet", action="store_true", help="no progress or summary")
+    args = parser.parse_args(argv)
+    try:
+        config = load_yaml_over(defaults, args.config) if args.config else defaults
+        overrides = {key: value for key, value in (
+            ("cloud_topic", args.cloud_topic), ("detections_topic", args.detections_topic),
+            ("slop", args.slop), ("queue_size", args.queue_size)) if value is not None}
+        config = dataclasses.replace(config, **overrides).check()
+        reporter = None if args.quiet else progress.Reporter("bag to files", unit="messages")
+        started = time.monotonic()
+        stats = convert_into_new_folder(args.bag, args.out, config, args.overwrite, reporter)
+    except (ConfigError, BagError, CloudError, OutputError, ValueError) as error:
+        print(f"bag_to_files: error: {error}", file=sys.stderr)
+        return 1
+    if not args.quiet:
+        reporter.finish()
+        print(f"bag_to_files: {args.out}: {stats.summary(config.slop)} "
+              f"({time.monotonic() - started:.1f} s)")
+    return 0

@@ -1,0 +1,48 @@
+"""Small hand-made bags for tests: clouds and detections at chosen stamps."""
+import genpy
+import numpy as np
+import rosbag
+from sensor_msgs.msg import PointCloud2, PointField
+from std_msgs.msg import Header
+
+from granular_tools.simulation import recorder
+from granular_tools.simulation.lidar import Returns
+from granular_tools.simulation.scene import Detection
+
+CLOUD_TOPIC = "/simulator/lidar"
+DETECTIONS_TOPIC = "/simulator/ground_truth/3d_detections"
+START = 1586102742.0
+
+
+def stamp(t):
+    return recorder.ros_time(START, t)
+
+
+def cloud(t, points=None, seq=0):
+    points = np.array([[1.0, 2.0, -2.3], [5.0, -1.0, 0.5]]) if points is None else points
+    returns = Returns(np.asarray(points, float), np.arange(len(points), dtype=np.uint8))
+    return recorder.cloud_message(returns, stamp(t), "velodyne", seq)
+
+
+def cloud_without_xyz(t):
+    return PointCloud2(header=Header(stamp=stamp(t), frame_id="velodyne"), height=1, width=1,
+                       fields=[PointField("intensity", 0, PointField.FLOAT32, 1)],
+                       point_step=4, row_step=4, data=b"\x00\x00\x80\x3f", is_dense=True)
+
+
+def detections(t, labels=("Sedan",), seq=0):
+    boxes = [Detection(100 + i, label, np.array([5.0 + i, -1.0, -1.5]), (0.0, 0.0, 0.0, 1.0),
+                       np.array([4.5, 1.8, 1.4]), 3.0) for i, label in enumerate(labels)]
+    return recorder.detections_message(boxes, stamp(t), "velodyne", seq)
+
+
+def write(path, messages):
+    """messages: (topic, message) in recording order; recorded at their header stamps."""
+    with rosbag.Bag(str(path), "w") as bag:
+        for topic, message in messages:
+            bag.write(topic, message, message.header.stamp)
+    return path
+
+
+def as_time(seconds):
+    return genpy.Time.from_sec(seconds)

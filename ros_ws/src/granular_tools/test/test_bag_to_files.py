@@ -1,0 +1,126 @@
+"""bag to files, offline mode: pairing policy, file formats, and bad input."""
+import json
+
+import numpy as np
+import pytest
+
+import bagmaker
+from bagmaker import CLOUD_TOPIC, DETECTIONS_TOPIC
+from granular_tools.bag_to_files import offline
+from granular_tools.bag_to_files.frames import stamp_name
+from granular_tools.simulation import cli as simulate
+
+
+def run(bag, out, *extra):
+    return offline.main(["--bag", str(bag), "--out", str(out), "--quiet", *extra])
+
+
+def stems(folder, sub, suffix):
+    return sorted(p.name[:-len(suffix)] for p in (folder / sub).iterdir())
+
+
+def read_pcd(path):
+    raw = path.read_bytes()
+    header_end = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+    header = dict(line.split(" ", 1) for line in raw[:header_end].decode().splitlines()
+                  if not line.startswith("#"))
+    dtype = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("intensity", "u1"),
+                      ("timestamp", "<f8")])
+    return header, np.frombuffer(raw[header_end:], dtype=dtype)
+
+
+def test_pairs_only_stamps_within_slop_and_skips_frames_without_detections(tmp_path):
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0)), (DETECTIONS_TOPIC, bagmaker.detections(0.004)),
+        (CLOUD_TOPIC, bagmaker.cloud(0.1)), (DETECTIONS_TOPIC, bagmaker.detections(0.115)),
+        (CLOUD_TOPIC, bagmaker.cloud(0.2)), (DETECTIONS_TOPIC, bagmaker.detections(0.2095, ())),
+        (DETECTIONS_TOPIC, bagmaker.detections(0.295)), (CLOUD_TOPIC, bagmaker.cloud(0.3)),
+    ])
+    assert run(bag, tmp_path / "out") == 0
+    expected = [stamp_name(bagmaker.stamp(t)) for t in (0.0, 0.3)]
+    assert stems(tmp_path / "out", "pcd", ".pcd") == expected
+    assert stems(tmp_path / "out", "detections_3d", ".json") == expected
+
+
+def test_pcd_keeps_every_field_and_value_of_the_cloud(tmp_path):
+    points = np.array([[1.5, -2.25, -2.3], [10.0, 0.5, 1.25], [-3.0, 4.0, 0.0]])
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0, points)), (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
+    assert run(bag, tmp_path / "out") == 0
+    header, data = read_pcd(next((tmp_path / "out" / "pcd").iterdir()))
+    assert header["FIELDS"] == "x y z intensity timestamp"
+    assert header["SIZE"] == "4 4 4 1 8" and header["TYPE"] == "F F F U F"
+    assert header["WIDTH"] == "3" and header["HEIGHT"] == "1" and header["POINTS"] == "3"
+    np.testing.assert_array_equal(np.stack([data["x"], data["y"], data["z"]], 1),
+                                  points.astype(np.float32))
+    np.testing.assert_array_equal(data["intensity"], [0, 1, 2])
+    assert data["timestamp"][0] == pytest.approx(bagmaker.START)
+
+
+def test_json_has_the_reports_layout(tmp_path):
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0)),
+        (DETECTIONS_TOPIC, bagmaker.detections(0.001, ("Sedan", "Jeep")))])
+    assert run(bag, tmp_path / "out") == 0
+    document = json.loads(next((tmp_path / "out" / "detections_3d").iterdir()).read_text())
+    stamp = bagmaker.stamp(0.001)
+    assert document["header"]["stamp"] == {"secs": stamp.secs, "nsecs": stamp.nsecs}
+    assert document["header"]["frame_id"] == "velodyne"
+    jeep = document["detections"][1]
+    assert (jeep["id"], jeep["label"], jeep["score"]) == (101, "Jeep", 1.0)
+    assert jeep["bbox"]["position"]["position"] == {"x": 6.0, "y": -1.0, "z": -1.5}
+    assert jeep["bbox"]["position"]["orientation"] == {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}
+    assert jeep["bbox"]["size"] == {"x": 4.5, "y": 1.8, "z": 1.4}
+    assert jeep["velocity"]["linear"]["x"] == 3.0 and "angular" in jeep["velocity"]
+
+
+def test_simulated_drive_converts_deterministically(tmp_path):
+    bag = tmp_path / "drive.bag"
+    assert simulate.main(["--out", str(bag), "--duration", "2", "--seed", "8", "--quiet"]) == 0
+    assert run(bag, tmp_path / "a") == 0 and run(bag, tmp_path / "b") == 0
+    names = stems(tmp_path / "a", "pcd", ".pcd")
+    assert 5 <= len(names) <= 15, "about half of the 20 clouds pair within 10 ms"
+    for sub, suffix in (("pcd", ".pcd"), ("detections_3d", ".json")):
+        for name in names:
+            assert (tmp_path / "a" / sub / (name + suffix)).read_bytes() == \
+                (tmp_path / "b" / sub / (name + suffix)).read_bytes()
+
+
+def test_bag_without_a_topic_names_the_topics_it_has(tmp_path, capsys):
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0))])
+    assert run(bag, tmp_path / "out") == 1
+    error = capsys.readouterr().err
+    assert f"no topic {DETECTIONS_TOPIC}" in error and CLOUD_TOPIC in error
+    assert not (tmp_path / "out").exists()
+
+
+def test_cloud_without_xyz_is_an_error_and_nothing_is_written(tmp_path, capsys):
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud_without_xyz(0.0)),
+        (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
+    assert run(bag, tmp_path / "out") == 1
+    assert "no x/y/z field" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == [bag]
+
+
+def test_existing_results_are_kept_unless_overwrite(tmp_path, capsys):
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0)), (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "older.txt").write_text("older results")
+    assert run(bag, out) == 1
+    assert "--overwrite" in capsys.readouterr().err
+    assert (out / "older.txt").exists()
+    assert run(bag, out, "--overwrite") == 0
+    assert not (out / "older.txt").exists() and len(stems(out, "pcd", ".pcd")) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.bag", "out"]
+
+
+def test_unreadable_bag_and_bad_slop_are_errors(tmp_path, capsys):
+    not_a_bag = tmp_path / "in.bag"
+    not_a_bag.write_text("hello")
+    assert run(not_a_bag, tmp_path / "out") == 1
+    assert str(not_a_bag) in capsys.readouterr().err
+    assert run(not_a_bag, tmp_path / "out", "--slop", "-1") == 1
+    assert "slop must be positive" in capsys.readouterr().err

@@ -124,3 +124,22 @@ def test_unreadable_bag_and_bad_slop_are_errors(tmp_path, capsys):
     assert str(not_a_bag) in capsys.readouterr().err
     assert run(not_a_bag, tmp_path / "out", "--slop", "-1") == 1
     assert "slop must be positive" in capsys.readouterr().err
+
+
+def test_pcd_and_json_read_back_into_the_messages_they_came_from(tmp_path):
+    from granular_tools.bag_to_files.frames import dict_to_detections
+    from granular_tools.bag_to_files.pcd import pcd_to_cloud
+
+    cloud = bagmaker.cloud(0.0, np.array([[1.0, 2.0, 3.0], [-4.5, 0.25, -2.3]]))
+    detections = bagmaker.detections(0.002, ("Sedan", "SchoolBus"))
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, cloud),
+                                               (DETECTIONS_TOPIC, detections)])
+    assert run(bag, tmp_path / "out") == 0
+    name = stamp_name(cloud.header.stamp)
+    back = pcd_to_cloud(str(tmp_path / "out" / "pcd" / f"{name}.pcd"), "velodyne",
+                        cloud.header.stamp)
+    read = read_pcd(tmp_path / "out" / "pcd" / f"{name}.pcd")[1]
+    assert back.data == read.tobytes() and back.width == 2
+    assert [f.name for f in back.fields] == ["x", "y", "z", "intensity", "timestamp"]
+    document = json.loads((tmp_path / "out" / "detections_3d" / f"{name}.json").read_text())
+    assert dict_to_detections(document) == detections

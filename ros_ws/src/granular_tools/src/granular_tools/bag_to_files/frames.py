@@ -4,6 +4,11 @@ import os
 import shutil
 import tempfile
 
+import genpy
+from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3
+from lgsvl_msgs.msg import BoundingBox3D, Detection3D, Detection3DArray
+from std_msgs.msg import Header
+
 from .pcd import cloud_to_pcd
 
 PCD_FOLDER, JSON_FOLDER = "pcd", "detections_3d"
@@ -89,3 +94,25 @@ class PairWriter:
         _write_atomically(os.path.join(self.folder, PCD_FOLDER, name + ".pcd"), pcd)
         _write_atomically(os.path.join(self.folder, JSON_FOLDER, name + ".json"), text)
         return name
+
+
+def dict_to_detections(document):
+    """The report's JSON back into a Detection3DArray (the inverse of detections_to_dict)."""
+    def header(h):
+        return Header(seq=h.get("seq", 0), frame_id=h.get("frame_id", ""),
+                      stamp=genpy.Time(h["stamp"]["secs"], h["stamp"]["nsecs"]))
+
+    def vector(v, kind=Vector3):
+        return kind(v["x"], v["y"], v["z"])
+
+    message = Detection3DArray(header=header(document["header"]))
+    for d in document["detections"]:
+        pose = d["bbox"]["position"]
+        o = pose["orientation"]
+        message.detections.append(Detection3D(
+            header=header(d["header"]), id=d["id"], label=d["label"], score=d["score"],
+            bbox=BoundingBox3D(position=Pose(vector(pose["position"], Point),
+                                             Quaternion(o["x"], o["y"], o["z"], o["w"])),
+                               size=vector(d["bbox"]["size"])),
+            velocity=Twist(vector(d["velocity"]["linear"]), vector(d["velocity"]["angular"]))))
+    return message

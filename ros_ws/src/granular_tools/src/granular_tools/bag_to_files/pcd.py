@@ -1,6 +1,7 @@
 """sensor_msgs/PointCloud2 to PCD (binary), keeping every field of the cloud."""
 import numpy as np
-from sensor_msgs.msg import PointField
+from sensor_msgs.msg import PointCloud2, PointField
+from std_msgs.msg import Header
 
 # PointField datatype -> (PCD TYPE, SIZE, numpy type)
 _PCD_TYPES = {
@@ -9,6 +10,9 @@ _PCD_TYPES = {
     PointField.INT32: ("I", 4, "<i4"), PointField.UINT32: ("U", 4, "<u4"),
     PointField.FLOAT32: ("F", 4, "<f4"), PointField.FLOAT64: ("F", 8, "<f8"),
 }
+
+
+_DATATYPES = {(pcd_type, size): datatype for datatype, (pcd_type, size, _) in _PCD_TYPES.items()}
 
 
 class CloudError(ValueError):
@@ -55,3 +59,50 @@ def cloud_to_pcd(cloud):
         "DATA binary",
     ]) + "\n"
     return header.encode("ascii") + packed.tobytes()
+
+
+def pcd_to_cloud(path, frame_id, stamp):
+    """Read a PCD file (DATA binary or ascii) into a PointCloud2 with the file's fields."""
+    with open(path, "rb") as stream:
+        raw = stream.read()
+    header, offset = {}, 0
+    while "DATA" not in header:
+        end = raw.find(b"\n", offset)
+        if end < 0:
+            raise CloudError(f"{path}: PCD header has no DATA line")
+        line = raw[offset:end].decode("ascii", "replace").strip()
+        offset = end + 1
+        if line and not line.startswith("#"):
+            key, _, value = line.partition(" ")
+            header[key] = value.split()
+    try:
+        names = header["FIELDS"]
+        sizes, types = [int(s) for s in header["SIZE"]], header["TYPE"]
+        counts = [int(c) for c in header.get("COUNT", ["1"] * len(names))]
+        width, height = int(header["WIDTH"][0]), int(header["HEIGHT"][0])
+        fields, cursor = [], 0
+        for name, size, pcd_type, count in zip(names, sizes, types, counts):
+            fields.append(PointField(name, cursor, _DATATYPES[(pcd_type, size)], count))
+            cursor += size * count
+    except (KeyError, ValueError, IndexError) as error:
+        raise CloudError(f"{path}: malformed PCD header ({error})") from error
+    dtype = np.dtype([(f.name, _PCD_TYPES[f.datatype][2], (f.count,) if f.count > 1 else ())
+                      for f in fields])
+    count = width * height
+    if header["DATA"][0] == "binary":
+        if len(raw) - offset < count * dtype.itemsize:
+            raise CloudError(f"{path}: {count} points announced, file is shorter")
+        points = np.frombuffer(raw, dtype=dtype, count=count, offset=offset)
+    elif header["DATA"][0] == "ascii":
+        columns = np.loadtxt(raw[offset:].decode("ascii").splitlines(), ndmin=2)
+        points = np.zeros(len(columns), dtype=dtype)
+        column = 0
+        for f in fields:
+            points[f.name] = columns[:, column] if f.count == 1 else \
+                columns[:, column:column + f.count]
+            column += f.count
+    else:
+        raise CloudError(f"{path}: DATA {header['DATA'][0]} is not supported")
+    return PointCloud2(header=Header(stamp=stamp, frame_id=frame_id), height=height, width=width,
+                       fields=fields, is_bigendian=False, point_step=dtype.itemsize,
+                       row_step=dtype.itemsize * width, data=points.tobytes(), is_dense=False)

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "granular_core/extraction/extraction_config.h"
+
+namespace granular {
+
+/// How extractFolder runs, apart from the tunables.
+struct ExtractFolderOptions {
+  /// Replace an output folder that exists and is not empty (otherwise that is an error).
+  bool overwrite = false;
+  /// Called after each frame with (frames done, frames to do); may be empty.
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// What extractFolder did.
+struct ExtractFolderSummary {
+  /// Frames with both a PCD and a detections JSON, all of which were extracted.
+  std::size_t frames_read = 0;
+  /// One line per unpaired file: "<stamp>: <why>".
+  std::vector<std::string> frames_skipped;
+  /// One line per rejected detection, naming its JSON file.
+  std::vector<std::string> invalid_detections;
+  std::size_t non_finite_points = 0;
+  /// Objects written, per label, for every threshold (sorted, duplicates merged).
+  std::map<std::size_t, std::map<std::string, std::size_t>> objects;
+};
+
+/// Name of an object file: `<label>-<stamp>-<label_index>.pcd`, with characters other than
+/// letters, digits, '_', '.' and '-' in the label replaced by '_'.
+std::string objectFileName(const std::string& label, const std::string& stamp,
+                           std::size_t label_index);
+
+/// Extracts every frame of a bag-to-files folder `in` (`in/pcd/<stamp>.pcd` paired with
+/// `in/detections_3d/<stamp>.json`, in stamp order) into objects folders under `out`.
+///
+/// An objects folder holds the object PCDs (see objectFileName) with at least N_thresh points
+/// and an `index.csv` with the columns
+/// `file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad`.
+/// With one threshold `out` is that folder; with several, `out/N<thresh>/` is one per threshold,
+/// all filled in the same pass and sharing files through hard links.
+///
+/// The result is built in a hidden sibling of `out` and renamed into place at the end, so a
+/// failure leaves `out` as it was. A file without its partner is reported, not fatal. Throws
+/// std::invalid_argument for a bad config and std::runtime_error (naming the file or folder)
+/// for missing input folders, a folder without a single pair, unreadable input files, a
+/// non-empty `out` without options.overwrite, and write failures.
+ExtractFolderSummary extractFolder(const std::filesystem::path& in,
+                                   const std::filesystem::path& out,
+                                   const ExtractionConfig& config,
+                                   const ExtractFolderOptions& options = {});
+
+}  // namespace granular

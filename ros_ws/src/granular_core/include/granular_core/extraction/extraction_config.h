@@ -1,0 +1,28 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace granular {
+
+/// Tunables of the extract stage. The defaults here are the reference values; tools overlay a
+/// YAML file and command-line options on them.
+struct ExtractionConfig {
+  /// Metres added on each side of a box along its own x, y and z axes before cropping. Zero by
+  /// default: simulator ground-truth boxes already enclose the whole model, z padding would add
+  /// ground returns and x/y padding the neighbours in a queue or a row of parked cars.
+  Eigen::Vector3d padding = Eigen::Vector3d::Zero();
+  /// N_thresh values, points: an object with fewer points is not written for that threshold.
+  std::vector<std::size_t> n_thresh = {10};
+  /// Labels to extract; empty extracts every label.
+  std::vector<std::string> labels;
+};
+
+/// Throws std::invalid_argument naming the field when padding is negative or not finite,
+/// n_thresh is empty or holds a zero, or a label is empty.
+void validate(const ExtractionConfig& config);
+
+}  // namespace granular

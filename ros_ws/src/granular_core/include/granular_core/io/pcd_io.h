@@ -1,0 +1,20 @@
+#pragma once
+
+#include <filesystem>
+
+#include "granular_core/point_types.h"
+
+namespace granular {
+
+/// Reads a PCD file (ascii, binary or binary_compressed) as an unorganised cloud. x, y and z must
+/// be float32 fields; intensity (uint8) and timestamp (float64) are read when present and are 0
+/// when absent. Throws std::runtime_error naming the file when it cannot be read, has no x/y/z
+/// fields, or has a known field of another type.
+Cloud readPcd(const std::filesystem::path& file);
+
+/// Writes `cloud` as binary PCD under a temporary name in the same folder, then renames it to
+/// `file`, so that no reader ever sees a half-written file. Throws std::runtime_error naming the
+/// file on failure.
+void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud);
+
+}  // namespace granular

@@ -1,0 +1,85 @@
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "granular_ros/extraction_config_yaml.h"
+
+namespace granular_ros {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ExtractionConfigYamlTest, ShippedConfigLoadsAndValidates) {
+  const fs::path file = fs::path(GRANULAR_CONFIG_DIR) / "extraction.yaml";
+  granular::ExtractionConfig config;
+  config.n_thresh = {999};
+  config.labels = {"Leftover"};
+  ASSERT_NO_THROW(loadExtractionConfig(file, config));
+  EXPECT_NO_THROW(granular::validate(config));
+  // The shipped file states the code's defaults.
+  const granular::ExtractionConfig defaults;
+  EXPECT_EQ(config.padding, defaults.padding);
+  EXPECT_EQ(config.n_thresh, defaults.n_thresh);
+  EXPECT_EQ(config.labels, defaults.labels);
+}
+
+class BadConfigTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device entropy;
+    file_ = fs::temp_directory_path() / ("granular_ros_config_" + std::to_string(entropy()) +
+                                         std::to_string(entropy()) + ".yaml");
+  }
+  void TearDown() override { fs::remove(file_); }
+
+  // The message of loading `content`, which must fail.
+  std::string errorOf(const std::string& content) const {
+    std::ofstream(file_) << content;
+    granular::ExtractionConfig config;
+    try {
+      loadExtractionConfig(file_, config);
+    } catch (const std::runtime_error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(file_.string()), std::string::npos) << message;
+      return message;
+    }
+    ADD_FAILURE() << "accepted: " << content;
+    return "";
+  }
+
+  fs::path file_;
+};
+
+TEST_F(BadConfigTest, ErrorsNameTheFileAndTheKey) {
+  EXPECT_NE(errorOf("padding: [0, 0, 0]\nn_tresh: [10]\n").find("n_tresh: unknown key"),
+            std::string::npos);
+  EXPECT_NE(errorOf("padding: [0, 0.1]\n").find("padding: expected three values"),
+            std::string::npos);
+  EXPECT_NE(errorOf("padding: [0, wide, 0]\n").find("padding[1]: expected a number"),
+            std::string::npos);
+  EXPECT_NE(errorOf("n_thresh: 10\n").find("n_thresh: expected a list"), std::string::npos);
+  EXPECT_NE(errorOf("n_thresh: [10, 2.5]\n").find("n_thresh[1]: expected an integer"),
+            std::string::npos);
+  EXPECT_NE(errorOf("n_thresh: [-3]\n").find("n_thresh[0]: must be at least 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf("labels: [Sedan, [SUV]]\n").find("labels[1]: expected a label"),
+            std::string::npos);
+  EXPECT_NE(errorOf("[1, 2]\n").find("expected a mapping"), std::string::npos);
+  EXPECT_NE(errorOf("padding: [0, 0\n").find("not valid YAML"), std::string::npos);
+}
+
+TEST_F(BadConfigTest, KeysLeftOutKeepTheirValues) {
+  std::ofstream(file_) << "labels: [Sedan, SUV]\n";
+  granular::ExtractionConfig config;
+  config.n_thresh = {10, 50};
+  loadExtractionConfig(file_, config);
+  EXPECT_EQ(config.labels, (std::vector<std::string>{"Sedan", "SUV"}));
+  EXPECT_EQ(config.n_thresh, (std::vector<std::size_t>{10, 50}));
+}
+
+}  // namespace
+}  // namespace granular_ros

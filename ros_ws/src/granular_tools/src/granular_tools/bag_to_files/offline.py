@@ -3,9 +3,13 @@ import argparse
 import dataclasses
 import os
 import shutil
+import struct
 import sys
 import tempfile
 import time
+
+import genpy
+from std_msgs.msg import Header
 
 from .. import progress
 from ..config_loading import ConfigError, load_yaml_over
@@ -17,6 +21,23 @@ from .pcd import CloudError
 
 class BagError(ValueError):
     """A bag that cannot be converted; the message names the bag and what is wrong."""
+
+
+class StampedRaw:
+    """A bag message read raw: its header is decoded, the rest only when `load`ed.
+
+    Clouds and detection arrays both begin with std_msgs/Header (seq, secs, nsecs), which is
+    all the synchroniser looks at; most messages are never paired and never fully decoded.
+    """
+    __slots__ = ("header", "raw", "message_class")
+
+    def __init__(self, raw, message_class):
+        seq, secs, nsecs = struct.unpack_from("<3I", raw)
+        self.header = Header(seq=seq, stamp=genpy.Time(secs, nsecs))
+        self.raw, self.message_class = raw, message_class
+
+    def load(self):
+        return self.message_class().deserialize(self.raw)
 
 
 def check_topics(bag, path, config):
@@ -40,7 +61,7 @@ def convert(bag_path, folder, config, reporter=None):
 
     allow_without_node()
     writer = PairWriter(folder)
-    pairing = Pairing(config.slop, config.queue_size, writer.write)
+    pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load)
     try:
         bag = rosbag.Bag(bag_path)
     except (OSError, rosbag.ROSBagException) as error:
@@ -48,8 +69,9 @@ def convert(bag_path, folder, config, reporter=None):
     with bag:
         total = check_topics(bag, bag_path, config)
         # Messages in the order they were recorded, as `rosbag play` would publish them.
-        for done, (topic, message, _) in enumerate(
-                bag.read_messages(topics=[config.cloud_topic, config.detections_topic])):
+        for done, (topic, (_, raw, _, _, message_class), _) in enumerate(bag.read_messages(
+                topics=[config.cloud_topic, config.detections_topic], raw=True)):
+            message = StampedRaw(raw, message_class)
             if topic == config.cloud_topic:
                 pairing.add_cloud(message)
             else:

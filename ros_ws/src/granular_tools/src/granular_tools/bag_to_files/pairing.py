@@ -30,9 +30,11 @@ class PairingStats:
 class Pairing:
     """Counts inputs and forwards each synchronised pair that has detections to `on_pair`."""
 
-    def __init__(self, slop, queue_size, on_pair):
+    def __init__(self, slop, queue_size, on_pair, load=None):
+        """`load` turns what was added into the message (for lazily read bag messages)."""
         self.stats = PairingStats()
         self.on_pair = on_pair
+        self.load = load or (lambda message: message)
         self.cloud_input = message_filters.SimpleFilter()
         self.detections_input = message_filters.SimpleFilter()
         self.synchronizer = message_filters.ApproximateTimeSynchronizer(
@@ -48,11 +50,12 @@ class Pairing:
         self.detections_input.signalMessage(detections)
 
     def _on_synchronised(self, cloud, detections):
+        detections = self.load(detections)
         if not detections.detections:
             self.stats.pairs_without_detections += 1
             return
         self.stats.pairs_kept += 1
-        self.on_pair(cloud, detections)
+        self.on_pair(self.load(cloud), detections)
 
 
 def allow_without_node():

@@ -3,5 +3,6 @@ from setuptools import setup
 
 setup(**generate_distutils_setup(packages=["granular_tools", "granular_tools.simulation",
                                            "granular_tools.visualization",
-                                           "granular_tools.bag_to_files"],
+                                           "granular_tools.bag_to_files",
+                                           "granular_tools.models"],
                                  package_dir={"": "src"}))

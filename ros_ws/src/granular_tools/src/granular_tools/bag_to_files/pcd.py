@@ -61,8 +61,8 @@ def cloud_to_pcd(cloud):
     return header.encode("ascii") + packed.tobytes()
 
 
-def pcd_to_cloud(path, frame_id, stamp):
-    """Read a PCD file (DATA binary or ascii) into a PointCloud2 with the file's fields."""
+def read_pcd(path):
+    """Read a PCD file (DATA binary or ascii): (PointFields, structured points, width, height)."""
     with open(path, "rb") as stream:
         raw = stream.read()
     header, offset = {}, 0
@@ -94,8 +94,12 @@ def pcd_to_cloud(path, frame_id, stamp):
             raise CloudError(f"{path}: {count} points announced, file is shorter")
         points = np.frombuffer(raw, dtype=dtype, count=count, offset=offset)
     elif header["DATA"][0] == "ascii":
-        columns = np.loadtxt(raw[offset:].decode("ascii").splitlines(), ndmin=2)
-        points = np.zeros(len(columns), dtype=dtype)
+        lines = raw[offset:].decode("ascii").splitlines()[:count]
+        columns = np.loadtxt(lines, ndmin=2) if count else np.zeros((0, sum(counts)))
+        if columns.shape != (count, sum(counts)):
+            raise CloudError(f"{path}: {count} points of {sum(counts)} values announced, "
+                             f"found {columns.shape[0]} rows of {columns.shape[1]}")
+        points = np.zeros(count, dtype=dtype)
         column = 0
         for f in fields:
             points[f.name] = columns[:, column] if f.count == 1 else \
@@ -103,6 +107,13 @@ def pcd_to_cloud(path, frame_id, stamp):
             column += f.count
     else:
         raise CloudError(f"{path}: DATA {header['DATA'][0]} is not supported")
+    return fields, points, width, height
+
+
+def pcd_to_cloud(path, frame_id, stamp):
+    """Read a PCD file into a PointCloud2 with the file's fields."""
+    fields, points, width, height = read_pcd(path)
     return PointCloud2(header=Header(stamp=stamp, frame_id=frame_id), height=height, width=width,
-                       fields=fields, is_bigendian=False, point_step=dtype.itemsize,
-                       row_step=dtype.itemsize * width, data=points.tobytes(), is_dense=False)
+                       fields=fields, is_bigendian=False, point_step=points.dtype.itemsize,
+                       row_step=points.dtype.itemsize * width, data=points.tobytes(),
+                       is_dense=False)

@@ -4,5 +4,6 @@ from setuptools import setup
 setup(**generate_distutils_setup(packages=["granular_tools", "granular_tools.simulation",
                                            "granular_tools.visualization",
                                            "granular_tools.bag_to_files",
-                                           "granular_tools.models"],
+                                           "granular_tools.models",
+                                           "granular_tools.evaluation"],
                                  package_dir={"": "src"}))

@@ -1,0 +1,1 @@
+"""Evaluation: metrics of classification results and the report that compares the methods."""

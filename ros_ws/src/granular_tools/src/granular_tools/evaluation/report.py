@@ -1,0 +1,201 @@
+"""make_report: summary.json, confusion matrices, precision/recall plots and index.md.
+
+Reads RESULTS/<method>/N<thresh>.json (one results file per method and test set) and writes
+OUT/summary.json, OUT/confusion/<method>-N<thresh>.png, OUT/precision_recall/<method>.png,
+OUT/accuracy.png and OUT/index.md, which puts them together with the model pictures.
+"""
+import argparse
+import json
+import os
+import pathlib
+import re
+import shutil
+import sys
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")  # Files only: no display needed.
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
+
+RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
+# The report's classes first, in its order; any others follow alphabetically.
+PREFERRED_ORDER = ["Sedan", "Hatchback", "SUV", "Jeep", "BoxTruck", "SchoolBus", "Pedestrian"]
+
+
+def discover(results_folder):
+    """{method: {threshold: path}} for every RESULTS/<method>/N<thresh>.json."""
+    found = {}
+    for method_folder in sorted(pathlib.Path(results_folder).iterdir()):
+        if not method_folder.is_dir():
+            continue
+        for path in method_folder.iterdir():
+            match = RESULTS_NAME.match(path.name)
+            if match:
+                found.setdefault(method_folder.name, {})[int(match.group(1))] = path
+    if not found:
+        raise ResultsError(f"{results_folder}: no <method>/N<thresh>.json results")
+    return found
+
+
+def ordered_classes(labels):
+    return [c for c in PREFERRED_ORDER if c in labels] + sorted(set(labels) - set(PREFERRED_ORDER))
+
+
+def plot_confusion(counts, classes, title, path):
+    has_missing = counts[:, -1].sum() > 0
+    shown = counts if has_missing else counts[:, :-1]
+    columns = classes + ([MISSING] if has_missing else [])
+    rows = shown.sum(axis=1, keepdims=True)
+    normalised = np.divide(shown, rows, out=np.zeros(shown.shape), where=rows > 0)
+    figure, ax = plt.subplots(figsize=(1.1 * len(columns) + 2.5, 0.9 * len(classes) + 1.8))
+    ax.imshow(normalised, cmap="Blues", vmin=0.0, vmax=1.0)
+    for i in range(len(classes)):
+        for j in range(len(columns)):
+            ax.text(j, i, f"{normalised[i, j]:.2f}\n{shown[i, j]}", ha="center", va="center",
+                    fontsize=8, color="white" if normalised[i, j] > 0.6 else "black")
+    ax.set_xticks(range(len(columns)), columns, rotation=35, ha="right", fontsize=8)
+    ax.set_yticks(range(len(classes)), [f"{c} ({int(rows[i, 0])})" for i, c in
+                                        enumerate(classes)], fontsize=8)
+    ax.set_xlabel("predicted")
+    ax.set_ylabel("true (objects)")
+    ax.set_title(title, fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def plot_precision_recall(method, by_threshold, classes, path):
+    thresholds = sorted(by_threshold)
+    columns = min(4, len(classes))
+    rows = -(-len(classes) // columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(3.0 * columns, 2.6 * rows + 0.4),
+                                sharey=True, squeeze=False)
+    for ax in axes.flat[len(classes):]:
+        ax.set_visible(False)
+    for ax, label in zip(axes.flat, classes):
+        for metric, style in (("precision", "o-"), ("recall", "s--")):
+            ax.plot(thresholds, [by_threshold[t]["per_class"][label][metric] for t in thresholds],
+                    style, label=metric)
+        ax.set_title(label, fontsize=9)
+        ax.set_xscale("log")
+        ax.set_xticks(thresholds, [str(t) for t in thresholds], fontsize=7)
+        ax.set_xlabel("N_thresh", fontsize=8)
+        ax.set_ylim(-0.02, 1.02)
+    axes.flat[0].legend(fontsize=7)
+    figure.suptitle(f"{method}: precision and recall per class against N_thresh", fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def plot_accuracy(summary, path):
+    figure, ax = plt.subplots(figsize=(6.5, 3.8))
+    for method, by_threshold in sorted(summary.items()):
+        thresholds = sorted(by_threshold, key=lambda k: int(k[1:]))
+        ax.plot([int(t[1:]) for t in thresholds], [by_threshold[t]["accuracy"] for t in
+                                                    thresholds], "o-", label=method)
+    ax.set_xscale("log")
+    ax.set_xlabel("N_thresh (minimum points per object)")
+    ax.set_ylabel("accuracy")
+    ax.set_ylim(0.0, 1.02)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def write_index(out, summary, classes, model_pictures):
+    lines = ["# Classification report", "",
+             "Accuracy counts a missing prediction as wrong; coverage is the share of objects "
+             "with a prediction. Registration methods are ranked by criterion 2 (the report's "
+             "choice); the other criteria are in summary.json.", "",
+             "![accuracy against N_thresh](accuracy.png)", "",
+             "| method | N_thresh | objects | accuracy | macro F1 | coverage | seconds |",
+             "|---|---|---|---|---|---|---|"]
+    for method, by_threshold in sorted(summary.items()):
+        for key in sorted(by_threshold, key=lambda k: int(k[1:])):
+            entry = by_threshold[key]
+            seconds = f"{entry['seconds']:.2f}" if "seconds" in entry else ""
+            lines.append(f"| {method} | {key[1:]} | {entry['objects']} | {entry['accuracy']:.3f} "
+                         f"| {entry['macro_f1']:.3f} | {entry['coverage']:.3f} | {seconds} |")
+    for method, by_threshold in sorted(summary.items()):
+        lines += ["", f"## {method}", "", f"![precision and recall]"
+                  f"(precision_recall/{method}.png)", ""]
+        for key in sorted(by_threshold, key=lambda k: int(k[1:])):
+            lines.append(f"![{method} {key}](confusion/{method}-{key}.png)")
+    if model_pictures:
+        overview = pathlib.Path(model_pictures) / "overview.png"
+        if overview.exists():
+            relative = os.path.relpath(overview, out)
+            lines += ["", "## Class models", "", f"![class models]({relative})"]
+    (pathlib.Path(out) / "index.md").write_text("\n".join(lines) + "\n")
+
+
+def make_report(results_folder, out, model_pictures=None):
+    """Write the report into `out`, built in a sibling folder and renamed into place."""
+    found = discover(results_folder)
+    results = {m: {t: load_results(p) for t, p in by_t.items()} for m, by_t in found.items()}
+    classes = ordered_classes({r["true_label"] for by_t in results.values()
+                               for res in by_t.values() for r in res["objects"]})
+    out = os.path.abspath(out)
+    if os.path.isdir(out) and os.listdir(out) and \
+            not os.path.exists(os.path.join(out, "summary.json")):
+        raise ResultsError(f"{out}: exists and is not a report folder; not replacing it")
+    staging = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", dir=os.path.dirname(out))
+    try:
+        os.makedirs(os.path.join(staging, "confusion"))
+        os.makedirs(os.path.join(staging, "precision_recall"))
+        summary = {}
+        for method, by_threshold in sorted(results.items()):
+            summary[method] = {}
+            for threshold, result in sorted(by_threshold.items()):
+                key = f"N{threshold}"
+                summary[method][key] = summarise(result, classes)
+                truth = [r["true_label"] for r in result["objects"]]
+                predicted = [r["predictions"].get(result["primary"]) for r in result["objects"]]
+                plot_confusion(confusion(truth, predicted, classes), classes,
+                               f"{method}, N_thresh {threshold} ({result['primary']})",
+                               os.path.join(staging, "confusion", f"{method}-{key}.png"))
+            plot_precision_recall(method, {int(k[1:]): v for k, v in summary[method].items()},
+                                  classes, os.path.join(staging, "precision_recall",
+                                                        f"{method}.png"))
+        plot_accuracy(summary, os.path.join(staging, "accuracy.png"))
+        with open(os.path.join(staging, "summary.json"), "w", encoding="utf-8") as stream:
+            json.dump({"classes": classes, "methods": summary}, stream, indent=2)
+        write_index(staging, summary, classes, model_pictures)
+        if os.path.isdir(out):
+            shutil.rmtree(out)
+        os.replace(staging, out)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    return summary
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="make_report",
+        description="Score classification results (RESULTS/<method>/N<thresh>.json) and write "
+                    "OUT/summary.json, confusion matrices, precision/recall against N_thresh, "
+                    "an accuracy plot and OUT/index.md.")
+    parser.add_argument("--results", required=True, help="folder of <method>/N<thresh>.json")
+    parser.add_argument("--out", required=True, help="report folder (replaced if it is one)")
+    parser.add_argument("--model-pictures", metavar="FOLDER",
+                        help="render_models output to show in index.md")
+    args = parser.parse_args(argv)
+    try:
+        summary = make_report(args.results, args.out, args.model_pictures)
+    except (ResultsError, OSError) as error:
+        print(f"make_report: error: {error}", file=sys.stderr)
+        return 1
+    for method, by_threshold in sorted(summary.items()):
+        cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
+                          sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
+        print(f"make_report: {method}: accuracy {cells}")
+    print(f"make_report: {os.path.join(args.out, 'index.md')}")
+    return 0

@@ -1,0 +1,70 @@
+#include "granular_core/models/model_cloud.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+#include "granular_core/io/pcd_io.h"
+
+namespace granular {
+
+ModelCloud toModelCloud(const Cloud& cloud, std::size_t* dropped) {
+  ModelCloud model;
+  model.reserve(cloud.size());
+  for (const PointXYZIT& point : cloud.points) {
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      model.push_back(pcl::PointXYZ(point.x, point.y, point.z));
+    }
+  }
+  if (dropped != nullptr) {
+    *dropped = cloud.size() - model.size();
+  }
+  return model;
+}
+
+ModelCloud readModelPcd(const std::filesystem::path& file) { return toModelCloud(readPcd(file)); }
+
+void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud) {
+  const std::size_t count = cloud.size();
+  std::string content = "# .PCD v0.7 - Point Cloud Data file format\n"
+                        "VERSION 0.7\n"
+                        "FIELDS x y z\n"
+                        "SIZE 4 4 4\n"
+                        "TYPE F F F\n"
+                        "COUNT 1 1 1\n"
+                        "WIDTH " + std::to_string(count) + "\n"
+                        "HEIGHT 1\n"
+                        "VIEWPOINT 0 0 0 1 0 0 0\n"
+                        "POINTS " + std::to_string(count) + "\n"
+                        "DATA binary\n";
+  constexpr std::size_t kRecord = 3 * sizeof(float);
+  std::size_t at = content.size();
+  content.resize(at + count * kRecord);
+  for (const pcl::PointXYZ& point : cloud.points) {
+    std::memcpy(&content[at], point.data, kRecord);
+    at += kRecord;
+  }
+
+  const std::filesystem::path partial =
+      file.parent_path() / ("." + file.filename().string() + ".partial");
+  std::ofstream stream(partial, std::ios::binary | std::ios::trunc);
+  stream.write(content.data(), static_cast<std::streamsize>(content.size()));
+  stream.close();
+  std::error_code error;
+  if (!stream) {
+    std::filesystem::remove(partial, error);
+    throw std::runtime_error(file.string() + ": cannot write PCD (through " + partial.string() +
+                             ")");
+  }
+  std::filesystem::rename(partial, file, error);
+  if (error) {
+    const std::string reason = error.message();
+    std::filesystem::remove(partial, error);
+    throw std::runtime_error(file.string() + ": cannot write PCD: " + reason);
+  }
+}
+
+}  // namespace granular

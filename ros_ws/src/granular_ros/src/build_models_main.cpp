@@ -1,0 +1,290 @@
+// build_models: the command-line face of granular::buildModels. Reads options and an optional
+// YAML config, builds one model per class, reports progress on stderr and a table on stdout.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <granular_core/models/build_models.h>
+
+#include "granular_ros/model_config_yaml.h"
+
+namespace {
+
+// Exit statuses, as --help lists them.
+constexpr int kFailed = 1;
+constexpr int kBadUsage = 2;
+
+std::string usage() {
+  const granular::ModelBuildConfig defaults;
+  const granular::FilterChainConfig& chain = defaults.filters;
+  std::ostringstream stages;
+  for (const granular::FilterStage stage : chain.order) {
+    stages << (stages.tellp() > 0 ? ", " : "") << granular::stageName(stage);
+  }
+  std::ostringstream text;
+  text << "usage: build_models --objects FOLDER --out FOLDER [options]\n"
+          "\n"
+          "Stacks the object PCDs of each class of an objects folder (<Class>-<stamp>-<index>\n"
+          ".pcd, as extract_objects writes them) into one model per class and filters it (report\n"
+          "sections 5.2 and 5.3). Writes OUT/<Class>.pcd (filtered, fields x y z), OUT/raw/\n"
+          "<Class>.pcd (concatenated), OUT/models.json (objects used and kept, points after each\n"
+          "stage, parameters) and, with --mesh, OUT/mesh/<Class>.ply. Needs no roscore.\n"
+          "\n"
+          "options:\n"
+          "  --objects FOLDER     objects folder to read\n"
+          "  --out FOLDER         models folder to create\n"
+          "  --method plain|icp   plain concatenation, or each object aligned to the growing\n"
+          "                       model with ICP and kept if it converged with a good fit\n"
+          "                       (default "
+       << granular::methodName(defaults.method)
+       << ")\n"
+          "  --seed CLASS=FILE    ICP seed model of CLASS (a PCD in the object frame); repeat\n"
+          "                       for several classes. Default: the objects with most points\n"
+          "                       showing each side (front, back, left, right)\n"
+          "  --classes LIST       classes to build, comma-separated, e.g. Sedan,SUV (default:\n"
+          "                       every class in the folder)\n"
+          "  --config FILE        YAML file with method, seed, icp, filters, class_filters and\n"
+          "                       mesh (the repository's config/models.yaml documents them);\n"
+          "                       options above override it\n"
+          "  --mesh               also write a triangle mesh of each model\n"
+          "  --overwrite          replace --out when it exists and is not empty\n"
+          "  --help               print this help and exit\n"
+          "\n"
+          "Default filter chain: "
+       << stages.str() << " (pass-through z " << chain.pass_through.min_z << "-"
+       << chain.pass_through.max_z << " m, radius " << chain.radius_outlier.radius << " m with "
+       << chain.radius_outlier.min_neighbors << " neighbours, K = "
+       << chain.statistical_outlier.mean_k << ", m = " << chain.statistical_outlier.stddev_mul
+       << ", leaf " << chain.voxel_grid.leaf_size
+       << " m), with per-class overrides.\n"
+          "\n"
+          "Progress goes to stderr, the summary table to stdout. Exit status: 0 done, 1 failed\n"
+          "(unreadable input, no objects, output not writable or not empty), 2 bad option or\n"
+          "configuration.\n";
+  return text.str();
+}
+
+std::vector<std::string> splitList(const std::string& option, const std::string& text) {
+  std::vector<std::string> items;
+  std::istringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.empty()) {
+      throw std::invalid_argument(option + ": empty item in '" + text + "'");
+    }
+    items.push_back(item);
+  }
+  if (items.empty()) {
+    throw std::invalid_argument(option + ": expected a comma-separated list");
+  }
+  return items;
+}
+
+struct Options {
+  std::string objects;
+  std::string out;
+  std::optional<std::string> config_file;
+  std::optional<std::string> method;
+  std::optional<std::string> classes;
+  std::map<std::string, std::filesystem::path> seeds;
+  bool mesh = false;
+  bool overwrite = false;
+  bool help = false;
+};
+
+Options parseArguments(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i < argc; ++i) {
+    std::string argument = argv[i];
+    std::optional<std::string> inline_value;
+    const auto equals = argument.find('=');
+    if (argument.rfind("--", 0) == 0 && equals != std::string::npos) {
+      inline_value = argument.substr(equals + 1);
+      argument.resize(equals);
+    }
+    const auto value = [&]() -> std::string {
+      if (inline_value) {
+        return *inline_value;
+      }
+      if (i + 1 >= argc) {
+        throw std::invalid_argument(argument + " needs a value");
+      }
+      return argv[++i];
+    };
+    const auto flag = [&]() {
+      if (inline_value) {
+        throw std::invalid_argument(argument + " takes no value");
+      }
+      return true;
+    };
+    if (argument == "--help" || argument == "-h") {
+      options.help = flag();
+    } else if (argument == "--overwrite") {
+      options.overwrite = flag();
+    } else if (argument == "--mesh") {
+      options.mesh = flag();
+    } else if (argument == "--objects") {
+      options.objects = value();
+    } else if (argument == "--out") {
+      options.out = value();
+    } else if (argument == "--config") {
+      options.config_file = value();
+    } else if (argument == "--method") {
+      options.method = value();
+    } else if (argument == "--classes") {
+      options.classes = value();
+    } else if (argument == "--seed") {
+      const std::string seed = value();
+      const auto separator = seed.find('=');
+      if (separator == 0 || separator == std::string::npos || separator + 1 == seed.size()) {
+        throw std::invalid_argument("--seed: expected CLASS=FILE.pcd, got '" + seed + "'");
+      }
+      const std::string label = seed.substr(0, separator);
+      if (!options.seeds.emplace(label, seed.substr(separator + 1)).second) {
+        throw std::invalid_argument("--seed: class '" + label + "' given twice");
+      }
+    } else {
+      throw std::invalid_argument("unknown option '" + argument + "'");
+    }
+  }
+  if (!options.help && (options.objects.empty() || options.out.empty())) {
+    throw std::invalid_argument("--objects and --out are required");
+  }
+  return options;
+}
+
+// Defaults, then the YAML file, then the command line.
+granular::ModelBuildConfig buildConfig(const Options& options) {
+  granular::ModelBuildConfig config;
+  if (options.config_file) {
+    granular_ros::loadModelConfig(*options.config_file, config);
+  }
+  if (options.method) {
+    const auto method = granular::methodFromName(*options.method);
+    if (!method) {
+      throw std::invalid_argument("--method: expected plain or icp, got '" + *options.method +
+                                  "'");
+    }
+    config.method = *method;
+  }
+  try {
+    granular::validate(config);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(std::string("invalid configuration: ") + error.what());
+  }
+  return config;
+}
+
+// ICP progress of one class: on a terminal one line redrawn at most ten times a second;
+// otherwise a line per 25%.
+class ProgressReport {
+ public:
+  ProgressReport() : terminal_(::isatty(STDERR_FILENO) != 0) {}
+
+  void operator()(const std::string& label, std::size_t done, std::size_t total) {
+    const auto now = std::chrono::steady_clock::now();
+    if (terminal_) {
+      if (done == total || now - last_ >= std::chrono::milliseconds(100)) {
+        std::fprintf(stderr, "\r%s: aligning %zu/%zu objects%s", label.c_str(), done, total,
+                     done == total ? "\n" : "");
+        last_ = now;
+      }
+    } else if (done * 4 / total != (done - 1) * 4 / total) {
+      std::fprintf(stderr, "%s: aligned %zu/%zu objects\n", label.c_str(), done, total);
+    }
+  }
+
+ private:
+  bool terminal_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+void reportClass(const granular::ClassModelSummary& summary) {
+  std::fprintf(stderr, "%s: %zu objects, %zu kept, %zu raw points, %zu model points, %.2f s\n",
+               summary.label.c_str(), summary.objects, summary.kept, summary.raw_points,
+               summary.points, summary.seconds);
+  for (const std::string& warning : summary.warnings) {
+    std::fprintf(stderr, "%s: warning: %s\n", summary.label.c_str(), warning.c_str());
+  }
+}
+
+void printSummary(const granular::BuildModelsSummary& summary,
+                  const granular::ModelBuildConfig& config, double seconds) {
+  for (const std::string& warning : summary.warnings) {
+    std::fprintf(stderr, "warning: %s\n", warning.c_str());
+  }
+  const granular::FilterStage all[] = {
+      granular::FilterStage::kPassThrough, granular::FilterStage::kRadiusOutlier,
+      granular::FilterStage::kStatisticalOutlier, granular::FilterStage::kVoxelGrid};
+  std::printf("models (%s concatenation; points after each filter stage, '-' not run):\n",
+              granular::methodName(config.method));
+  std::printf("  %-12s %8s %8s %9s", "class", "objects", "kept", "raw");
+  for (const granular::FilterStage stage : all) {
+    std::printf(" %19s", granular::stageName(stage));
+  }
+  std::printf(" %8s\n", "seconds");
+  for (const granular::ClassModelSummary& model : summary.classes) {
+    std::printf("  %-12s %8zu %8zu %9zu", model.label.c_str(), model.objects, model.kept,
+                model.raw_points);
+    for (const granular::FilterStage stage : all) {
+      std::string cell = "-";
+      for (const granular::StageResult& result : model.stages) {
+        if (result.stage == stage) {
+          cell = std::to_string(result.points);
+        }
+      }
+      std::printf(" %19s", cell.c_str());
+    }
+    std::printf(" %8.2f\n", model.seconds);
+  }
+  std::printf("total: %zu classes, %.2f s\n", summary.classes.size(), seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  granular::ModelBuildConfig config;
+  granular::BuildModelsOptions run;
+  try {
+    options = parseArguments(argc, argv);
+    if (options.help) {
+      std::cout << usage();
+      return 0;
+    }
+    config = buildConfig(options);
+    if (options.classes) {
+      run.classes = splitList("--classes", *options.classes);
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "build_models: " << error.what() << "\n(see build_models --help)\n";
+    return kBadUsage;
+  }
+
+  run.overwrite = options.overwrite;
+  run.mesh = options.mesh;
+  run.seeds = options.seeds;
+  run.progress = ProgressReport();
+  run.class_done = reportClass;
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const granular::BuildModelsSummary summary =
+        granular::buildModels(options.objects, options.out, config, run);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    printSummary(summary, config, elapsed.count());
+  } catch (const std::exception& error) {
+    std::cerr << (::isatty(STDERR_FILENO) ? "\n" : "") << "build_models: " << error.what()
+              << '\n';
+    return kFailed;
+  }
+  return 0;
+}

@@ -1,7 +1,5 @@
 // build_models: the command-line face of granular::buildModels. Reads options and an optional
 // YAML config, builds one model per class, reports progress on stderr and a table on stdout.
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -14,6 +12,7 @@
 
 #include <granular_core/models/build_models.h>
 
+#include "granular_ros/command_line.h"
 #include "granular_ros/model_config_yaml.h"
 
 namespace {
@@ -72,23 +71,6 @@ std::string usage() {
   return text.str();
 }
 
-std::vector<std::string> splitList(const std::string& option, const std::string& text) {
-  std::vector<std::string> items;
-  std::istringstream stream(text);
-  for (std::string item; std::getline(stream, item, ',');) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    if (item.empty()) {
-      throw std::invalid_argument(option + ": empty item in '" + text + "'");
-    }
-    items.push_back(item);
-  }
-  if (items.empty()) {
-    throw std::invalid_argument(option + ": expected a comma-separated list");
-  }
-  return items;
-}
-
 struct Options {
   std::string objects;
   std::string out;
@@ -103,47 +85,27 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string argument = argv[i];
-    std::optional<std::string> inline_value;
-    const auto equals = argument.find('=');
-    if (argument.rfind("--", 0) == 0 && equals != std::string::npos) {
-      inline_value = argument.substr(equals + 1);
-      argument.resize(equals);
-    }
-    const auto value = [&]() -> std::string {
-      if (inline_value) {
-        return *inline_value;
-      }
-      if (i + 1 >= argc) {
-        throw std::invalid_argument(argument + " needs a value");
-      }
-      return argv[++i];
-    };
-    const auto flag = [&]() {
-      if (inline_value) {
-        throw std::invalid_argument(argument + " takes no value");
-      }
-      return true;
-    };
-    if (argument == "--help" || argument == "-h") {
-      options.help = flag();
-    } else if (argument == "--overwrite") {
-      options.overwrite = flag();
-    } else if (argument == "--mesh") {
-      options.mesh = flag();
-    } else if (argument == "--objects") {
-      options.objects = value();
-    } else if (argument == "--out") {
-      options.out = value();
-    } else if (argument == "--config") {
-      options.config_file = value();
-    } else if (argument == "--method") {
-      options.method = value();
-    } else if (argument == "--classes") {
-      options.classes = value();
-    } else if (argument == "--seed") {
-      const std::string seed = value();
+  granular_ros::OptionReader reader(argc, argv);
+  while (reader.next()) {
+    const std::string& name = reader.name();
+    if (name == "--help" || name == "-h") {
+      options.help = reader.flag();
+    } else if (name == "--overwrite") {
+      options.overwrite = reader.flag();
+    } else if (name == "--mesh") {
+      options.mesh = reader.flag();
+    } else if (name == "--objects") {
+      options.objects = reader.value();
+    } else if (name == "--out") {
+      options.out = reader.value();
+    } else if (name == "--config") {
+      options.config_file = reader.value();
+    } else if (name == "--method") {
+      options.method = reader.value();
+    } else if (name == "--classes") {
+      options.classes = reader.value();
+    } else if (name == "--seed") {
+      const std::string seed = reader.value();
       const auto separator = seed.find('=');
       if (separator == 0 || separator == std::string::npos || separator + 1 == seed.size()) {
         throw std::invalid_argument("--seed: expected CLASS=FILE.pcd, got '" + seed + "'");
@@ -153,7 +115,7 @@ Options parseArguments(int argc, char** argv) {
         throw std::invalid_argument("--seed: class '" + label + "' given twice");
       }
     } else {
-      throw std::invalid_argument("unknown option '" + argument + "'");
+      reader.unknown();
     }
   }
   if (!options.help && (options.objects.empty() || options.out.empty())) {
@@ -183,30 +145,6 @@ granular::ModelBuildConfig buildConfig(const Options& options) {
   }
   return config;
 }
-
-// ICP progress of one class: on a terminal one line redrawn at most ten times a second;
-// otherwise a line per 25%.
-class ProgressReport {
- public:
-  ProgressReport() : terminal_(::isatty(STDERR_FILENO) != 0) {}
-
-  void operator()(const std::string& label, std::size_t done, std::size_t total) {
-    const auto now = std::chrono::steady_clock::now();
-    if (terminal_) {
-      if (done == total || now - last_ >= std::chrono::milliseconds(100)) {
-        std::fprintf(stderr, "\r%s: aligning %zu/%zu objects%s", label.c_str(), done, total,
-                     done == total ? "\n" : "");
-        last_ = now;
-      }
-    } else if (done * 4 / total != (done - 1) * 4 / total) {
-      std::fprintf(stderr, "%s: aligned %zu/%zu objects\n", label.c_str(), done, total);
-    }
-  }
-
- private:
-  bool terminal_;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 void reportClass(const granular::ClassModelSummary& summary) {
   std::fprintf(stderr, "%s: %zu objects, %zu kept, %zu raw points, %zu model points, %.2f s\n",
@@ -263,7 +201,7 @@ int main(int argc, char** argv) {
     }
     config = buildConfig(options);
     if (options.classes) {
-      run.classes = splitList("--classes", *options.classes);
+      run.classes = granular_ros::splitList("--classes", *options.classes);
     }
   } catch (const std::exception& error) {
     std::cerr << "build_models: " << error.what() << "\n(see build_models --help)\n";
@@ -273,7 +211,10 @@ int main(int argc, char** argv) {
   run.overwrite = options.overwrite;
   run.mesh = options.mesh;
   run.seeds = options.seeds;
-  run.progress = ProgressReport();
+  run.progress = [progress = granular_ros::ProgressReport(4)](
+                     const std::string& label, std::size_t done, std::size_t total) mutable {
+    progress(label + " aligning", done, total, "objects");
+  };
   run.class_done = reportClass;
   try {
     const auto start = std::chrono::steady_clock::now();
@@ -282,7 +223,7 @@ int main(int argc, char** argv) {
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     printSummary(summary, config, elapsed.count());
   } catch (const std::exception& error) {
-    std::cerr << (::isatty(STDERR_FILENO) ? "\n" : "") << "build_models: " << error.what()
+    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "") << "build_models: " << error.what()
               << '\n';
     return kFailed;
   }

@@ -1,9 +1,6 @@
 // extract_objects: the command-line face of granular::extractFolder. Reads options and an
 // optional YAML config, runs the extraction, reports progress on stderr and a summary on stdout.
-#include <unistd.h>
-
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -16,6 +13,7 @@
 
 #include <granular_core/extraction/extract_folder.h>
 
+#include "granular_ros/command_line.h"
 #include "granular_ros/extraction_config_yaml.h"
 
 namespace {
@@ -63,33 +61,6 @@ std::string usage() {
          "writable or not empty), 2 bad option or configuration.\n";
 }
 
-std::vector<std::string> splitList(const std::string& option, const std::string& text) {
-  std::vector<std::string> items;
-  std::istringstream stream(text);
-  for (std::string item; std::getline(stream, item, ',');) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    if (item.empty()) {
-      throw std::invalid_argument(option + ": empty item in '" + text + "'");
-    }
-    items.push_back(item);
-  }
-  if (items.empty()) {
-    throw std::invalid_argument(option + ": expected a comma-separated list");
-  }
-  return items;
-}
-
-template <typename T>
-T parseNumber(const std::string& option, const std::string& text) {
-  T value{};
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc() || end != text.data() + text.size()) {
-    throw std::invalid_argument(option + ": '" + text + "' is not a valid number");
-  }
-  return value;
-}
-
 struct Options {
   std::string in;
   std::string out;
@@ -103,47 +74,27 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  for (int i = 1; i < argc; ++i) {
-    std::string argument = argv[i];
-    std::optional<std::string> inline_value;
-    const auto equals = argument.find('=');
-    if (argument.rfind("--", 0) == 0 && equals != std::string::npos) {
-      inline_value = argument.substr(equals + 1);
-      argument.resize(equals);
-    }
-    const auto value = [&]() -> std::string {
-      if (inline_value) {
-        return *inline_value;
-      }
-      if (i + 1 >= argc) {
-        throw std::invalid_argument(argument + " needs a value");
-      }
-      return argv[++i];
-    };
-    const auto flag = [&]() {
-      if (inline_value) {
-        throw std::invalid_argument(argument + " takes no value");
-      }
-      return true;
-    };
-    if (argument == "--help" || argument == "-h") {
-      options.help = flag();
-    } else if (argument == "--overwrite") {
-      options.overwrite = flag();
-    } else if (argument == "--in") {
-      options.in = value();
-    } else if (argument == "--out") {
-      options.out = value();
-    } else if (argument == "--config") {
-      options.config_file = value();
-    } else if (argument == "--n-thresh") {
-      options.n_thresh = value();
-    } else if (argument == "--labels") {
-      options.labels = value();
-    } else if (argument == "--padding") {
-      options.padding = value();
+  granular_ros::OptionReader reader(argc, argv);
+  while (reader.next()) {
+    const std::string& name = reader.name();
+    if (name == "--help" || name == "-h") {
+      options.help = reader.flag();
+    } else if (name == "--overwrite") {
+      options.overwrite = reader.flag();
+    } else if (name == "--in") {
+      options.in = reader.value();
+    } else if (name == "--out") {
+      options.out = reader.value();
+    } else if (name == "--config") {
+      options.config_file = reader.value();
+    } else if (name == "--n-thresh") {
+      options.n_thresh = reader.value();
+    } else if (name == "--labels") {
+      options.labels = reader.value();
+    } else if (name == "--padding") {
+      options.padding = reader.value();
     } else {
-      throw std::invalid_argument("unknown option '" + argument + "'");
+      reader.unknown();
     }
   }
   if (!options.help && (options.in.empty() || options.out.empty())) {
@@ -160,21 +111,21 @@ granular::ExtractionConfig buildConfig(const Options& options) {
   }
   if (options.n_thresh) {
     config.n_thresh.clear();
-    for (const std::string& item : splitList("--n-thresh", *options.n_thresh)) {
-      config.n_thresh.push_back(parseNumber<std::size_t>("--n-thresh", item));
+    for (const std::string& item : granular_ros::splitList("--n-thresh", *options.n_thresh)) {
+      config.n_thresh.push_back(granular_ros::parseNumber<std::size_t>("--n-thresh", item));
     }
   }
   if (options.labels) {
-    config.labels = splitList("--labels", *options.labels);
+    config.labels = granular_ros::splitList("--labels", *options.labels);
   }
   if (options.padding) {
-    const std::vector<std::string> items = splitList("--padding", *options.padding);
+    const std::vector<std::string> items = granular_ros::splitList("--padding", *options.padding);
     if (items.size() != 3) {
       throw std::invalid_argument("--padding: expected X,Y,Z in metres, got '" + *options.padding + "'");
     }
     for (std::size_t axis = 0; axis < 3; ++axis) {
       config.padding[static_cast<Eigen::Index>(axis)] =
-          parseNumber<double>("--padding", items[axis]);
+          granular_ros::parseNumber<double>("--padding", items[axis]);
     }
   }
   try {
@@ -184,30 +135,6 @@ granular::ExtractionConfig buildConfig(const Options& options) {
   }
   return config;
 }
-
-// On a terminal one line redrawn at most ten times a second; otherwise a line per 10%.
-class ProgressReport {
- public:
-  ProgressReport() : terminal_(::isatty(STDERR_FILENO) != 0) {}
-
-  void operator()(std::size_t done, std::size_t total) {
-    const auto now = std::chrono::steady_clock::now();
-    if (terminal_) {
-      if (done == total || now - last_ >= std::chrono::milliseconds(100)) {
-        std::fprintf(stderr, "\rextracting: %zu/%zu frames (%zu%%)%s", done, total,
-                     done * 100 / total, done == total ? "\n" : "");
-        last_ = now;
-      }
-    } else if (done * 10 / total != (done - 1) * 10 / total) {
-      std::fprintf(stderr, "extracting: %zu/%zu frames (%zu%%)\n", done, total,
-                   done * 100 / total);
-    }
-  }
-
- private:
-  bool terminal_;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 void reportList(const char* title, const std::vector<std::string>& lines) {
   constexpr std::size_t kShown = 10;
@@ -281,7 +208,10 @@ int main(int argc, char** argv) {
 
   granular::ExtractFolderOptions run;
   run.overwrite = options.overwrite;
-  run.progress = ProgressReport();
+  run.progress = [progress = granular_ros::ProgressReport()](std::size_t done,
+                                                           std::size_t total) mutable {
+    progress("extracting", done, total, "frames");
+  };
   try {
     const auto start = std::chrono::steady_clock::now();
     const granular::ExtractFolderSummary summary =
@@ -290,7 +220,7 @@ int main(int argc, char** argv) {
     printSummary(summary, elapsed.count());
   } catch (const std::exception& error) {
     // Past a progress line that a terminal leaves unfinished.
-    std::cerr << (::isatty(STDERR_FILENO) ? "\n" : "") << "extract_objects: " << error.what()
+    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "") << "extract_objects: " << error.what()
               << '\n';
     return kFailed;
   }

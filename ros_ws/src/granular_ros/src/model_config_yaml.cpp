@@ -1,122 +1,42 @@
 #include "granular_ros/model_config_yaml.h"
 
-#include <functional>
-#include <limits>
-#include <map>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
+#include "granular_ros/yaml_reader.h"
 
 namespace granular_ros {
 namespace {
 
 using granular::FilterStage;
 
-// Reads the values of one YAML file, naming the file and the key path in every error.
-class Reader {
- public:
-  explicit Reader(std::filesystem::path file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw std::runtime_error(file_.string() + ": " + key + ": " + what);
+// A list of filter stage names.
+std::vector<FilterStage> stages(const YamlReader& reader, const std::string& key,
+                                const YAML::Node& node) {
+  if (!node.IsSequence()) {
+    reader.fail(key, "expected a list of stages, e.g. [pass_through, voxel_grid]");
   }
-
-  using Handler = std::function<void(const std::string&, const YAML::Node&)>;
-  using Handlers = std::map<std::string, Handler>;
-
-  // Calls the handler of each key of the mapping `node` at `path` with the key's full path.
-  void forEachKey(const std::string& path, const YAML::Node& node,
-                  const Handlers& handlers) const {
-    if (node.IsNull()) {
-      return;
+  std::vector<FilterStage> order;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string item = key + "[" + std::to_string(i) + "]";
+    const std::string name = reader.text(item, node[i]);
+    const auto stage = granular::stageFromName(name);
+    if (!stage) {
+      reader.fail(item, "unknown stage '" + name +
+                            "' (known: pass_through, radius_outlier, statistical_outlier, "
+                            "voxel_grid)");
     }
-    if (!node.IsMap()) {
-      fail(path, "expected a mapping of keys to values");
-    }
-    for (const auto& entry : node) {
-      if (!entry.first.IsScalar()) {
-        fail(path, "keys must be plain names");
-      }
-      const std::string key = entry.first.Scalar();
-      const std::string key_path = path.empty() ? key : path + "." + key;
-      const auto handler = handlers.find(key);
-      if (handler == handlers.end()) {
-        std::string known;
-        for (const auto& [name, unused] : handlers) {
-          known += (known.empty() ? "" : ", ") + name;
-        }
-        fail(key_path, "unknown key (known: " + known + ")");
-      }
-      handler->second(key_path, entry.second);
-    }
+    order.push_back(*stage);
   }
-
-  double number(const std::string& key, const YAML::Node& node) const {
-    return scalar<double>(key, node, "a number");
-  }
-
-  int integer(const std::string& key, const YAML::Node& node) const {
-    const long long value = scalar<long long>(key, node, "an integer");
-    if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max()) {
-      fail(key, "integer out of range");
-    }
-    return static_cast<int>(value);
-  }
-
-  std::size_t count(const std::string& key, const YAML::Node& node) const {
-    const long long value = scalar<long long>(key, node, "an integer");
-    if (value < 0) {
-      fail(key, "must not be negative, got " + std::to_string(value));
-    }
-    return static_cast<std::size_t>(value);
-  }
-
-  std::string text(const std::string& key, const YAML::Node& node) const {
-    return scalar<std::string>(key, node, "a name");
-  }
-
-  std::vector<FilterStage> stages(const std::string& key, const YAML::Node& node) const {
-    if (!node.IsSequence()) {
-      fail(key, "expected a list of stages, e.g. [pass_through, voxel_grid]");
-    }
-    std::vector<FilterStage> order;
-    for (std::size_t i = 0; i < node.size(); ++i) {
-      const std::string item = key + "[" + std::to_string(i) + "]";
-      const std::string name = text(item, node[i]);
-      const auto stage = granular::stageFromName(name);
-      if (!stage) {
-        fail(item, "unknown stage '" + name +
-                       "' (known: pass_through, radius_outlier, statistical_outlier, voxel_grid)");
-      }
-      order.push_back(*stage);
-    }
-    return order;
-  }
-
- private:
-  template <typename T>
-  T scalar(const std::string& key, const YAML::Node& node, const std::string& expected) const {
-    if (!node.IsScalar()) {
-      fail(key, "expected " + expected);
-    }
-    try {
-      return node.as<T>();
-    } catch (const YAML::BadConversion&) {
-      fail(key, "expected " + expected + ", got '" + node.Scalar() + "'");
-    }
-  }
-
-  std::filesystem::path file_;
-};
+  return order;
+}
 
 // The chain's keys; the same layout serves the shared chain and the class overrides.
 template <typename Set>
-Reader::Handlers chainHandlers(const Reader& reader, Set set) {
+YamlReader::Handlers chainHandlers(const YamlReader& reader, Set set) {
   return {
       {"order", [&reader, set](const std::string& key,
-                               const YAML::Node& node) { set.order(reader.stages(key, node)); }},
+                               const YAML::Node& node) { set.order(stages(reader, key, node)); }},
       {"pass_through",
        [&reader, set](const std::string& path, const YAML::Node& node) {
          reader.forEachKey(path, node,
@@ -185,36 +105,13 @@ struct OverrideSetter {
 }  // namespace
 
 void loadModelConfig(const std::filesystem::path& file, granular::ModelBuildConfig& config) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(file.string() + ": cannot open for reading");
-  } catch (const YAML::ParserException& error) {
-    throw std::runtime_error(file.string() + ": not valid YAML: " + error.what());
-  }
-  if (!root.IsNull() && !root.IsMap()) {
-    throw std::runtime_error(file.string() + ": expected a mapping of keys to values");
-  }
-
-  const Reader reader(file);
+  const YamlReader reader(file);
+  const YAML::Node root = reader.load();
   granular::IcpConfig& icp = config.icp;
   granular::MeshConfig& mesh = config.mesh;
-  const auto number = [&reader](double& field) {
-    return [&reader, &field](const std::string& key, const YAML::Node& node) {
-      field = reader.number(key, node);
-    };
-  };
-  const auto integer = [&reader](int& field) {
-    return [&reader, &field](const std::string& key, const YAML::Node& node) {
-      field = reader.integer(key, node);
-    };
-  };
-  const auto count = [&reader](std::size_t& field) {
-    return [&reader, &field](const std::string& key, const YAML::Node& node) {
-      field = reader.count(key, node);
-    };
-  };
+  const auto number = [&reader](double& field) { return reader.set(field); };
+  const auto integer = [&reader](int& field) { return reader.set(field); };
+  const auto count = [&reader](std::size_t& field) { return reader.set(field); };
 
   reader.forEachKey("", root, {
       {"method",

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <charconv>
+#include <chrono>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace granular_ros {
+
+/// Walks a tool's arguments, `--name VALUE`, `--name=VALUE` and `--flag`, one option at a time.
+/// Every problem is a std::invalid_argument that names the option.
+class OptionReader {
+ public:
+  OptionReader(int argc, char** argv);
+
+  /// Moves to the next option; false after the last one.
+  bool next();
+  /// The current option, e.g. "--out".
+  const std::string& name() const { return name_; }
+  /// The current option's value: the text after '=', or else the next argument.
+  std::string value();
+  /// For an option that takes no value: true, or an error when it was given one.
+  bool flag();
+  /// Throws the error for an option the tool does not know.
+  [[noreturn]] void unknown() const;
+
+ private:
+  std::vector<std::string> arguments_;
+  std::size_t next_ = 0;
+  std::string name_;
+  std::string inline_value_;
+  bool has_inline_value_ = false;
+};
+
+/// The items of a comma-separated list, trimmed; an empty item or list is an error naming
+/// `option`.
+std::vector<std::string> splitList(const std::string& option, const std::string& text);
+
+/// `text` as a number of type T, all of it; otherwise an error naming `option`.
+template <typename T>
+T parseNumber(const std::string& option, const std::string& text) {
+  T value{};
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) {
+    throw std::invalid_argument(option + ": '" + text + "' is not a valid number");
+  }
+  return value;
+}
+
+/// Progress of long work on stderr, "WHAT: DONE/TOTAL UNIT (P%)": on a terminal one line
+/// redrawn at most ten times a second; in a log a line each time another 1/`lines` is done.
+class ProgressReport {
+ public:
+  explicit ProgressReport(std::size_t lines = 10);
+
+  void operator()(const std::string& what, std::size_t done, std::size_t total,
+                  const std::string& unit);
+
+  /// True when stderr is a terminal (a failure message must then start on a new line).
+  static bool terminal();
+
+ private:
+  std::size_t lines_;
+  bool terminal_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+}  // namespace granular_ros

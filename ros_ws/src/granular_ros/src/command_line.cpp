@@ -1,0 +1,88 @@
+#include "granular_ros/command_line.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <sstream>
+
+namespace granular_ros {
+
+OptionReader::OptionReader(int argc, char** argv) : arguments_(argv + 1, argv + argc) {}
+
+bool OptionReader::next() {
+  if (next_ >= arguments_.size()) {
+    return false;
+  }
+  name_ = arguments_[next_++];
+  has_inline_value_ = false;
+  const auto equals = name_.find('=');
+  if (name_.rfind("--", 0) == 0 && equals != std::string::npos) {
+    inline_value_ = name_.substr(equals + 1);
+    has_inline_value_ = true;
+    name_.resize(equals);
+  }
+  return true;
+}
+
+std::string OptionReader::value() {
+  if (has_inline_value_) {
+    return inline_value_;
+  }
+  if (next_ >= arguments_.size()) {
+    throw std::invalid_argument(name_ + " needs a value");
+  }
+  return arguments_[next_++];
+}
+
+bool OptionReader::flag() {
+  if (has_inline_value_) {
+    throw std::invalid_argument(name_ + " takes no value");
+  }
+  return true;
+}
+
+void OptionReader::unknown() const {
+  throw std::invalid_argument("unknown option '" + name_ + "'");
+}
+
+std::vector<std::string> splitList(const std::string& option, const std::string& text) {
+  std::vector<std::string> items;
+  std::istringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.empty()) {
+      throw std::invalid_argument(option + ": empty item in '" + text + "'");
+    }
+    items.push_back(item);
+  }
+  if (items.empty()) {
+    throw std::invalid_argument(option + ": expected a comma-separated list");
+  }
+  return items;
+}
+
+ProgressReport::ProgressReport(std::size_t lines)
+    : lines_(lines > 0 ? lines : 1), terminal_(terminal()) {}
+
+bool ProgressReport::terminal() { return ::isatty(STDERR_FILENO) != 0; }
+
+void ProgressReport::operator()(const std::string& what, std::size_t done, std::size_t total,
+                                const std::string& unit) {
+  if (total == 0) {
+    return;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  if (terminal_) {
+    if (done == total || now - last_ >= std::chrono::milliseconds(100)) {
+      std::fprintf(stderr, "\r%s: %zu/%zu %s (%zu%%)%s", what.c_str(), done, total,
+                   unit.c_str(), done * 100 / total, done == total ? "\n" : "");
+      last_ = now;
+    }
+  } else if (done == total || done * lines_ / total != (done - 1) * lines_ / total) {
+    std::fprintf(stderr, "%s: %zu/%zu %s (%zu%%)\n", what.c_str(), done, total, unit.c_str(),
+                 done * 100 / total);
+  }
+}
+
+}  // namespace granular_ros

@@ -49,7 +49,11 @@ def frames_stage(bag, out, config_dir, overwrite):
 
 
 def objects_stage(frames, out, thresholds, config_dir, overwrite):
-    command = ["rosrun", "granular_ros", "extract_objects", "--in", frames, "--out", out,
+    # extract_objects writes one threshold's objects straight into its --out folder, and
+    # several thresholds into N<thresh>/ sub-folders; the pipeline always wants the latter.
+    values = [t for t in thresholds.split(",") if t]
+    target = os.path.join(out, f"N{values[0]}") if len(values) == 1 else out
+    command = ["rosrun", "granular_ros", "extract_objects", "--in", frames, "--out", target,
                "--n-thresh", thresholds]
     config_file = stage_config(config_dir, "extraction.yaml")
     command += ["--config", config_file] if config_file else []

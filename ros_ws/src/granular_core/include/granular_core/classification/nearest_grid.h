@@ -1,0 +1,52 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace granular {
+
+/// Exact nearest-point queries near a fixed cloud through a uniform grid of cells: a query
+/// looks at the rings of cells around its own, nearest first, and stops as soon as no point
+/// beyond the rings can be nearer. Most queries of a registration land on or near the model,
+/// where one or two rings answer them; a query that the rings cannot settle says so, and the
+/// caller asks a kd-tree.
+///
+/// Squared distances are computed in float as FLANN's L2_Simple does,
+/// ((0 + dx*dx) + dy*dy) + dz*dz, so a distance found here is the one PCL's KdTreeFLANN gives
+/// for the same point, to the bit.
+class NearestGrid {
+ public:
+  struct Result {
+    /// True when the answer is exact. False when a point beyond the searched rings might be
+    /// nearer than `distance`: then `found`, `index` and `distance` are the best seen so far.
+    bool resolved = false;
+    bool found = false;      ///< a point lies within the bound
+    std::size_t index = 0;   ///< of the nearest point, into the cloud given
+    float distance = std::numeric_limits<float>::infinity();  ///< squared, m^2
+  };
+
+  /// Indexes `count` points given as x y z floats (all finite). `max_rings`: how many rings of
+  /// cells around the query's own cell a query may search.
+  NearestGrid(const float* xyz, std::size_t count, int max_rings = 3);
+
+  /// The nearest point whose squared distance to `query` is below `bound` (squared, m^2).
+  /// Thread-safe.
+  Result nearest(const float query[3],
+                 float bound = std::numeric_limits<float>::infinity()) const;
+
+  /// m, the edge of a cell.
+  float cellSize() const { return cell_; }
+
+ private:
+  float origin_[3] = {0.0f, 0.0f, 0.0f};
+  float cell_ = 1.0f;
+  int size_[3] = {0, 0, 0};
+  int max_rings_;
+  std::vector<std::uint32_t> cell_start_;  ///< points of cell c: [cell_start_[c], [c + 1])
+  std::vector<float> points_;              ///< x y z per point, cell by cell
+  std::vector<std::uint32_t> indices_;     ///< index into the given cloud, per point
+};
+
+}  // namespace granular

@@ -1,0 +1,53 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace granular {
+
+/// Exact nearest-point search in a fixed cloud: a kd-tree with a bounding box on every node,
+/// searched nearest box first without allocation. With a good bound (the caller's guess of the
+/// distance) a query far from the cloud visits only the few nodes whose boxes come that close,
+/// where a tree that prunes by splitting planes alone visits many.
+///
+/// Squared distances are computed in float as FLANN's L2_Simple does,
+/// ((0 + dx*dx) + dy*dy) + dz*dz, so a distance found here is the one PCL's KdTreeFLANN gives
+/// for the same point, to the bit. Which of several points at exactly the same distance is
+/// returned is not specified.
+class NearestPoints {
+ public:
+  struct Result {
+    bool found = false;     ///< a point lies within the bound
+    std::size_t index = 0;  ///< of the nearest point, into the cloud given
+    float distance = std::numeric_limits<float>::infinity();  ///< squared, m^2
+  };
+
+  /// Indexes `count` points given as x y z floats (all finite).
+  NearestPoints(const float* xyz, std::size_t count);
+
+  /// The nearest point whose squared distance to `query` is below `bound` (squared, m^2).
+  /// Thread-safe.
+  Result nearest(const float query[3],
+                 float bound = std::numeric_limits<float>::infinity()) const;
+
+ private:
+  struct Node {
+    float low[3];
+    float high[3];
+    std::uint32_t begin;        ///< points of a leaf: [begin, end)
+    std::uint32_t end;
+    std::int32_t first_child;   ///< -1 for a leaf; the second child follows the first
+  };
+
+  // Fills nodes_[node] with the points [begin, end), splitting it while it is large.
+  void build(std::size_t node, std::uint32_t begin, std::uint32_t end, int depth);
+
+  std::vector<float> points_;          ///< x y z per point, in tree order
+  std::vector<std::uint32_t> indices_; ///< index into the given cloud, per point
+  std::vector<Node> nodes_;            ///< nodes_[0] is the root
+  int depth_ = 0;                      ///< of the deepest leaf
+};
+
+}  // namespace granular

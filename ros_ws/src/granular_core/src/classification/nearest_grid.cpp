@@ -1,0 +1,142 @@
+#include "granular_core/classification/nearest_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granular {
+namespace {
+
+// At most this many cells, whatever the cloud's extent (the cell size grows instead).
+constexpr double kMaxCells = 4.0e6;
+// Cells are sized for about this many points each if the points filled the bounding box;
+// surface clouds leave most cells empty and a few points in the others.
+constexpr double kPointsPerCellVolume = 0.125;
+
+// FLANN's L2_Simple, operation for operation.
+inline float squaredDistance(const float* a, const float* b) {
+  float result = 0.0f;
+  const float dx = a[0] - b[0];
+  result += dx * dx;
+  const float dy = a[1] - b[1];
+  result += dy * dy;
+  const float dz = a[2] - b[2];
+  result += dz * dz;
+  return result;
+}
+
+}  // namespace
+
+NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
+    : max_rings_(std::max(0, max_rings)) {
+  if (count == 0) {
+    cell_start_.assign(1, 0);
+    return;
+  }
+  float low[3] = {xyz[0], xyz[1], xyz[2]};
+  float high[3] = {xyz[0], xyz[1], xyz[2]};
+  for (std::size_t i = 1; i < count; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::min(low[axis], xyz[3 * i + axis]);
+      high[axis] = std::max(high[axis], xyz[3 * i + axis]);
+    }
+  }
+  // A flat or thin cloud still gets a volume, so that the cell size stays sensible.
+  double volume = 1.0;
+  double longest = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    volume *= std::max(static_cast<double>(high[axis] - low[axis]), 0.01);
+    longest = std::max(longest, static_cast<double>(high[axis] - low[axis]));
+  }
+  double cell = std::cbrt(volume * kPointsPerCellVolume / static_cast<double>(count));
+  cell = std::max({cell, cbrt(volume / kMaxCells), longest / 1.0e4, 1.0e-4});
+  cell_ = static_cast<float>(cell);
+  for (int axis = 0; axis < 3; ++axis) {
+    origin_[axis] = low[axis];
+    size_[axis] = static_cast<int>((high[axis] - low[axis]) / cell_) + 1;
+  }
+
+  const auto cellOf = [&](const float* point) {
+    std::size_t index = 0;
+    for (int axis = 2; axis >= 0; --axis) {
+      const int coordinate = std::min(
+          size_[axis] - 1, static_cast<int>((point[axis] - origin_[axis]) / cell_));
+      index = index * static_cast<std::size_t>(size_[axis]) + static_cast<std::size_t>(coordinate);
+    }
+    return index;
+  };
+  const std::size_t cells = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
+  cell_start_.assign(cells + 1, 0);
+  std::vector<std::size_t> cell_of(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    cell_of[i] = cellOf(&xyz[3 * i]);
+    ++cell_start_[cell_of[i] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    cell_start_[c + 1] += cell_start_[c];
+  }
+  std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
+  points_.resize(3 * count);
+  indices_.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint32_t slot = next[cell_of[i]]++;
+    std::copy(&xyz[3 * i], &xyz[3 * i] + 3, &points_[3 * slot]);
+    indices_[slot] = static_cast<std::uint32_t>(i);
+  }
+}
+
+NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) const {
+  Result result;
+  result.distance = bound;
+  if (indices_.empty()) {
+    result.resolved = true;
+    return result;
+  }
+  // The query's cell, which may lie outside the grid, and how far the query is inside it.
+  int centre[3];
+  float margin = std::numeric_limits<float>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    const float offset = (query[axis] - origin_[axis]) / cell_;
+    const float floor = std::floor(offset);
+    centre[axis] = static_cast<int>(std::clamp(floor, -1.0e6f, 1.0e6f));
+    margin = std::min({margin, (offset - floor) * cell_, (floor + 1.0f - offset) * cell_});
+  }
+  for (int ring = 0; ring <= max_rings_; ++ring) {
+    const int z_low = std::max(centre[2] - ring, 0);
+    const int z_high = std::min(centre[2] + ring, size_[2] - 1);
+    const int y_low = std::max(centre[1] - ring, 0);
+    const int y_high = std::min(centre[1] + ring, size_[1] - 1);
+    for (int z = z_low; z <= z_high; ++z) {
+      for (int y = y_low; y <= y_high; ++y) {
+        // Inside the ring's shell only its two x faces, unless y or z is on the shell.
+        const bool shell = std::abs(z - centre[2]) == ring || std::abs(y - centre[1]) == ring;
+        const int step = shell ? 1 : std::max(2 * ring, 1);
+        for (int x = centre[0] - ring; x <= centre[0] + ring; x += step) {
+          if (x < 0 || x >= size_[0]) {
+            continue;
+          }
+          const std::size_t cell =
+              (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
+          for (std::uint32_t p = cell_start_[cell]; p < cell_start_[cell + 1]; ++p) {
+            const float distance = squaredDistance(query, &points_[3 * p]);
+            if (distance < result.distance ||
+                (distance == result.distance && result.found && indices_[p] < result.index)) {
+              result.distance = distance;
+              result.index = indices_[p];
+              result.found = true;
+            }
+          }
+        }
+      }
+    }
+    // Every point not yet seen lies at least this far from the query (less a margin for the
+    // rounding of the cell coordinates).
+    const float reach = (margin + static_cast<float>(ring) * cell_) * 0.9999f;
+    if (result.distance <= reach * reach) {
+      result.resolved = true;
+      return result;
+    }
+  }
+  return result;
+}
+
+}  // namespace granular

@@ -1,0 +1,192 @@
+// bench_registration: the report's registration loop against granular's, on the same objects
+// and models in one process, one after the other. Prints seconds and the speed-up per method,
+// and whether both give the same predictions.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <granular_core/classification/classify_folder.h>
+#include <granular_core/models/build_models.h>
+#include <pcl/console/print.h>
+
+#include "granular_ros/classification_config_yaml.h"
+#include "granular_ros/command_line.h"
+
+namespace {
+
+constexpr int kFailed = 1;
+constexpr int kBadUsage = 2;
+
+const char* const kUsage =
+    "usage: bench_registration --models FOLDER --objects FOLDER [options]\n"
+    "\n"
+    "For each method, classifies the objects twice, one run after the other: first as the\n"
+    "report's loop did (one thread; for every object and model a fresh PCL registration object\n"
+    "given the model as target, so the model's kd-tree, and NDT's voxel grid, are built again\n"
+    "for every pair), then as classify_registration does (each model's structures built once,\n"
+    "objects spread over threads). Prints the seconds of each, the speed-up, and whether the\n"
+    "two give the same predictions under the three criteria. Needs no roscore.\n"
+    "\n"
+    "options:\n"
+    "  --models FOLDER    class models (<Class>.pcd)\n"
+    "  --objects FOLDER   objects (<Class>-<stamp>-<index>.pcd)\n"
+    "  --methods LIST     comma-separated, of icp, icp_nl, ndt (default: all three)\n"
+    "  --preset NAME      parameter preset (default report)\n"
+    "  --config FILE      YAML file with presets (config/classification.yaml)\n"
+    "  --threads N        threads of the fast run (default: every core)\n"
+    "  --help             print this help and exit\n"
+    "\n"
+    "Exit status: 0 done and the predictions agree, 1 failed or they differ, 2 bad option.\n";
+
+struct Options {
+  std::string models;
+  std::string objects;
+  std::vector<std::string> methods = {"icp", "icp_nl", "ndt"};
+  std::string preset = "report";
+  std::optional<std::string> config_file;
+  int threads = 0;
+  bool help = false;
+};
+
+Options parseArguments(int argc, char** argv) {
+  Options options;
+  granular_ros::OptionReader reader(argc, argv);
+  while (reader.next()) {
+    const std::string& name = reader.name();
+    if (name == "--help" || name == "-h") {
+      options.help = reader.flag();
+    } else if (name == "--models") {
+      options.models = reader.value();
+    } else if (name == "--objects") {
+      options.objects = reader.value();
+    } else if (name == "--methods") {
+      options.methods = granular_ros::splitList(name, reader.value());
+    } else if (name == "--preset") {
+      options.preset = reader.value();
+    } else if (name == "--config") {
+      options.config_file = reader.value();
+    } else if (name == "--threads") {
+      options.threads = granular_ros::parseNumber<int>(name, reader.value());
+    } else {
+      reader.unknown();
+    }
+  }
+  if (!options.help && (options.models.empty() || options.objects.empty())) {
+    throw std::invalid_argument("--models and --objects are required");
+  }
+  return options;
+}
+
+std::vector<granular::ModelCloud> readObjects(const std::filesystem::path& folder) {
+  std::vector<granular::ModelCloud> objects;
+  for (const auto& [label, files] : granular::listObjectFiles(folder)) {
+    for (const std::filesystem::path& file : files) {
+      objects.push_back(granular::readModelPcd(file));
+    }
+  }
+  if (objects.empty()) {
+    throw std::runtime_error(folder.string() + ": no object PCDs");
+  }
+  return objects;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Objects whose predictions differ under any criterion.
+std::size_t differentPredictions(const std::vector<std::vector<granular::PairResult>>& a,
+                                 const std::vector<std::vector<granular::PairResult>>& b) {
+  std::size_t different = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const granular::Predictions pa = granular::predict(a[i]);
+    const granular::Predictions pb = granular::predict(b[i]);
+    for (int criterion = 1; criterion <= 3; ++criterion) {
+      if (pa.criterion(criterion) != pb.criterion(criterion)) {
+        ++different;
+        break;
+      }
+    }
+  }
+  return different;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  granular::RegistrationClassifierConfig config;
+  try {
+    options = parseArguments(argc, argv);
+    if (options.help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    std::map<std::string, granular::RegistrationClassifierConfig> presets =
+        granular::registrationPresets();
+    if (options.config_file) {
+      granular_ros::loadRegistrationPresets(*options.config_file, presets);
+    }
+    if (presets.count(options.preset) == 0) {
+      throw std::invalid_argument("--preset: no preset '" + options.preset + "'");
+    }
+    config = presets.at(options.preset);
+    for (const std::string& method : options.methods) {
+      if (!granular::registrationMethodFromName(method)) {
+        throw std::invalid_argument("--methods: unknown method '" + method + "'");
+      }
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "bench_registration: " << error.what() << "\n(see bench_registration --help)\n";
+    return kBadUsage;
+  }
+
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  bool agree = true;
+  try {
+    const std::vector<granular::LabelledModel> models = granular::readClassModels(options.models);
+    const std::vector<granular::ModelCloud> objects = readObjects(options.objects);
+    std::printf("%zu objects, %zu models, preset %s\n", objects.size(), models.size(),
+                options.preset.c_str());
+    std::printf("%-8s %12s %12s %10s %9s %12s\n", "method", "report loop", "granular",
+                "speed-up", "threads", "different");
+    for (const std::string& name : options.methods) {
+      const granular::RegistrationMethod method = *granular::registrationMethodFromName(name);
+      granular::RegisterOptions fast_options;
+      fast_options.threads = options.threads;
+
+      // The classifier's constructor builds the models' structures: part of our time.
+      auto start = std::chrono::steady_clock::now();
+      const granular::RegistrationClassifier classifier(method, config, models);
+      const auto fast = classifier.registerObjects(objects, fast_options);
+      const double fast_seconds = secondsSince(start);
+
+      start = std::chrono::steady_clock::now();
+      const auto plain = classifier.registerObjectsPlain(objects);
+      const double plain_seconds = secondsSince(start);
+
+      const std::size_t different = differentPredictions(plain, fast);
+      agree = agree && different == 0;
+      const int threads = granular::registrationThreads(fast_options);
+      std::printf("%-8s %11.2fs %11.3fs %9.1fx %9d %12zu\n", name.c_str(), plain_seconds,
+                  fast_seconds, plain_seconds / fast_seconds, threads, different);
+      std::fflush(stdout);
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "bench_registration: " << error.what() << '\n';
+    return kFailed;
+  }
+  if (!agree) {
+    std::cerr << "bench_registration: the two loops predict differently\n";
+    return kFailed;
+  }
+  return 0;
+}

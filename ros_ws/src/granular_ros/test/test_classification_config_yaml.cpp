@@ -1,0 +1,98 @@
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "granular_ros/classification_config_yaml.h"
+
+namespace granular_ros {
+namespace {
+
+namespace fs = std::filesystem;
+using Presets = std::map<std::string, granular::RegistrationClassifierConfig>;
+
+TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
+  Presets presets;
+  // Values the file must set back.
+  presets["report"].icp.max_iterations = 99;
+  presets["tuned"].ndt.resolution = 9.0;
+  presets["tuned"].source_min_z.reset();
+  ASSERT_NO_THROW(loadRegistrationPresets(fs::path(GRANULAR_CONFIG_DIR) / "classification.yaml",
+                                          presets));
+  const Presets built_in = granular::registrationPresets();
+  ASSERT_EQ(presets.size(), built_in.size());
+  for (const auto& [name, config] : built_in) {
+    EXPECT_NO_THROW(granular::validate(presets.at(name))) << name;
+    EXPECT_TRUE(presets.at(name) == config) << name;
+  }
+  // The report preset is the report's values (sections 8.1.1 and 8.3).
+  const granular::RegistrationClassifierConfig& report = presets.at("report");
+  EXPECT_EQ(report.icp.max_iterations, 1);
+  EXPECT_EQ(report.icp.max_correspondence_distance, 0.01);
+  EXPECT_EQ(report.icp.transformation_epsilon, 1e-9);
+  EXPECT_EQ(report.icp.euclidean_fitness_epsilon, 0.001);
+  EXPECT_EQ(report.ndt.transformation_epsilon, 0.01);
+  EXPECT_EQ(report.ndt.step_size, 0.1);
+  EXPECT_EQ(report.ndt.max_iterations, 35);
+  EXPECT_EQ(report.ndt.resolution, 0.1);
+  EXPECT_FALSE(report.source_min_z);
+}
+
+class BadClassificationConfigTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device entropy;
+    file_ = fs::temp_directory_path() / ("granular_ros_classification_" +
+                                         std::to_string(entropy()) + ".yaml");
+  }
+  void TearDown() override { fs::remove(file_); }
+
+  std::string errorOf(const std::string& content) const {
+    std::ofstream(file_) << content;
+    Presets presets = granular::registrationPresets();
+    try {
+      loadRegistrationPresets(file_, presets);
+    } catch (const std::runtime_error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find(file_.string()), std::string::npos) << message;
+      return message;
+    }
+    ADD_FAILURE() << "accepted: " << content;
+    return "";
+  }
+
+  fs::path file_;
+};
+
+TEST_F(BadClassificationConfigTest, ErrorsNameTheFileAndTheKey) {
+  EXPECT_NE(errorOf("presets:\n  tuned:\n    ndt: {resolutin: 0.3}\n")
+                .find("presets.tuned.ndt.resolutin: unknown key"),
+            std::string::npos);
+  EXPECT_NE(errorOf("presets:\n  tuned:\n    icp: {max_iterations: many}\n")
+                .find("presets.tuned.icp.max_iterations: expected an integer, got 'many'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("preset: {}\n").find("preset: unknown key (known: presets)"),
+            std::string::npos);
+  EXPECT_NE(errorOf("presets: [report]\n").find("presets: expected a mapping"),
+            std::string::npos);
+}
+
+TEST_F(BadClassificationConfigTest, ANewPresetStartsFromTheReportsValues) {
+  std::ofstream(file_) << "presets:\n  mine:\n    icp: {max_iterations: 7}\n"
+                          "    source_min_z: 0.25\n  tuned:\n    source_min_z: null\n";
+  Presets presets = granular::registrationPresets();
+  loadRegistrationPresets(file_, presets);
+  granular::RegistrationClassifierConfig expected;
+  expected.icp.max_iterations = 7;
+  expected.source_min_z = 0.25;
+  EXPECT_TRUE(presets.at("mine") == expected);
+  EXPECT_FALSE(presets.at("tuned").source_min_z);
+  EXPECT_EQ(presets.at("tuned").ndt.resolution,
+            granular::registrationPresets().at("tuned").ndt.resolution);
+}
+
+}  // namespace
+}  // namespace granular_ros

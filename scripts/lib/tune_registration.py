@@ -1,0 +1,69 @@
+"""Grid search behind scripts/tune_registration; see that script's header."""
+import itertools
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+THRESHOLDS = ("N10", "N50", "N100")
+CANDIDATES = {
+    "icp": {"max_iterations": [1, 10, 30, 100],
+            "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
+            "source_min_z": [None, 0.2]},
+    # Levenberg-Marquardt iterations cost several times ICP's: 100 is left out.
+    "icp_nl": {"max_iterations": [1, 10, 30],
+               "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
+               "source_min_z": [None, 0.2]},
+    "ndt": {"resolution": [0.1, 0.2, 0.3, 0.5, 1.0], "min_points_per_voxel": [3, 6],
+            "source_min_z": [None, 0.2]},
+}
+
+
+def preset_yaml(method, values):
+    section = {k: v for k, v in values.items() if k != "source_min_z"}
+    body = ", ".join(f"{k}: {v}" for k, v in section.items())
+    min_z = "null" if values["source_min_z"] is None else values["source_min_z"]
+    return f"presets:\n  candidate:\n    {method}: {{{body}}}\n    source_min_z: {min_z}\n"
+
+
+def accuracy(results_file):
+    with open(results_file, encoding="utf-8") as stream:
+        objects = json.load(stream)["objects"]
+    correct = sum(o["predictions"]["criterion2"] == o["true_label"] for o in objects)
+    return correct / len(objects) if objects else 0.0
+
+
+def evaluate(method, values, models, objects_root, work):
+    config = os.path.join(work, "candidate.yaml")
+    with open(config, "w", encoding="utf-8") as stream:
+        stream.write(preset_yaml(method, values))
+    scores = []
+    for threshold in THRESHOLDS:
+        out = os.path.join(work, "results.json")
+        subprocess.run(["rosrun", "granular_ros", "classify_registration", "--models", models,
+                        "--objects", os.path.join(objects_root, threshold), "--method", method,
+                        "--preset", "candidate", "--config", config, "--out", out],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        scores.append(accuracy(out))
+    return sum(scores) / len(scores), scores
+
+
+def main(models, objects_root, *methods):
+    with tempfile.TemporaryDirectory() as work:
+        for method in methods or CANDIDATES:
+            grid = CANDIDATES[method]
+            best = None
+            for combination in itertools.product(*grid.values()):
+                values = dict(zip(grid, combination))
+                mean, scores = evaluate(method, values, models, objects_root, work)
+                cells = " ".join(f"{t} {s:.3f}" for t, s in zip(THRESHOLDS, scores))
+                print(f"{method} {values}: mean {mean:.3f} ({cells})", flush=True)
+                if best is None or mean > best[0]:
+                    best = (mean, values)
+            print(f"best {method}: {best[1]} mean {best[0]:.3f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:]))

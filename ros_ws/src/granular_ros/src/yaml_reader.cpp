@@ -77,6 +77,10 @@ std::size_t YamlReader::count(const std::string& key, const YAML::Node& node) co
   return static_cast<std::size_t>(value);
 }
 
+bool YamlReader::flag(const std::string& key, const YAML::Node& node) const {
+  return scalar<bool>(key, node, "true or false");
+}
+
 std::string YamlReader::text(const std::string& key, const YAML::Node& node,
                              const std::string& expected) const {
   return scalar<std::string>(key, node, expected);

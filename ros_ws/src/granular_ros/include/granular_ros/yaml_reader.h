@@ -37,6 +37,8 @@ class YamlReader {
   int integer(const std::string& key, const YAML::Node& node) const;
   /// A non-negative integer.
   std::size_t count(const std::string& key, const YAML::Node& node) const;
+  /// true or false.
+  bool flag(const std::string& key, const YAML::Node& node) const;
   /// Plain text; `expected` says what in an error.
   std::string text(const std::string& key, const YAML::Node& node,
                    const std::string& expected = "a name") const;

@@ -19,6 +19,7 @@ matplotlib.use("Agg")  # Files only: no display needed.
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
 
 RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
@@ -118,30 +119,64 @@ def _criteria_cells(entry):
     return cells
 
 
+def plot_feature_distributions(objects_folder, classes, path):
+    """Box plots of [mean, std] of x, y, z per class over an objects folder's PCDs."""
+    values = {}
+    for pcd in sorted(pathlib.Path(objects_folder).glob("*.pcd")):
+        label = pcd.name.split("-", 1)[0]
+        _, points, _, _ = read_pcd(str(pcd))
+        xyz = np.stack([points[a] for a in "xyz"], axis=1).astype(float)
+        xyz = xyz[np.all(np.isfinite(xyz), axis=1)]
+        if len(xyz):
+            values.setdefault(label, []).append(np.concatenate([xyz.mean(0), xyz.std(0)]))
+    shown = [c for c in classes if c in values] + sorted(set(values) - set(classes))
+    if not shown:
+        raise ResultsError(f"{objects_folder}: no object PCDs for the feature picture")
+    names = ["mean x", "mean y", "mean z", "std x", "std y", "std z"]
+    figure, axes = plt.subplots(2, 3, figsize=(12, 6.5))
+    for k, ax in enumerate(axes.flat):
+        ax.boxplot([np.array(values[c])[:, k] for c in shown], showfliers=False)
+        ax.set_xticks(range(1, len(shown) + 1), shown, rotation=35, ha="right", fontsize=7)
+        ax.set_title(f"{names[k]} (m)", fontsize=9)
+    figure.suptitle("kNN features of the training objects per class", fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
 def write_index(out, summary, classes, model_pictures):
     lines = ["# Classification report", "",
              "Accuracy counts a missing prediction as wrong; coverage is the share of objects "
              "with a prediction. Registration methods are ranked by criterion 2 (the report's "
              "choice); the criteria columns give each criterion's accuracy and, in brackets, "
-             "the objects it leaves without a prediction. Seconds: the whole test set, models "
-             "prepared and every object registered against every model.", "",
+             "the objects it leaves without a prediction. Seconds: the whole test set (for "
+             "registration, models prepared and every object registered against every model); "
+             "supervised classifiers also give their training time and the microseconds per "
+             "object (features and prediction, one core).", "",
              "![accuracy against N_thresh](accuracy.png)", "",
              "| method | N_thresh | objects | accuracy | macro F1 | coverage | criterion 1 "
-             "| criterion 2 | criterion 3 | seconds |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| criterion 2 | criterion 3 | seconds | seconds to train | us per object |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for method, by_threshold in sorted(summary.items()):
         for key in sorted(by_threshold, key=lambda k: int(k[1:])):
             entry = by_threshold[key]
-            seconds = f"{entry['seconds']:.2f}" if "seconds" in entry else ""
+            seconds, train, per_object = (
+                f"{entry[k]:{f}}" if k in entry else "" for k, f in
+                (("seconds", ".2f"), ("seconds_to_train", ".2f"),
+                 ("microseconds_per_object", ".0f")))
             criteria = " | ".join(_criteria_cells(entry))
             lines.append(f"| {method} | {key[1:]} | {entry['objects']} | {entry['accuracy']:.3f} "
                          f"| {entry['macro_f1']:.3f} | {entry['coverage']:.3f} | {criteria} "
-                         f"| {seconds} |")
+                         f"| {seconds} | {train} | {per_object} |")
     for method, by_threshold in sorted(summary.items()):
         lines += ["", f"## {method}", "", f"![precision and recall]"
                   f"(precision_recall/{method}.png)", ""]
         for key in sorted(by_threshold, key=lambda k: int(k[1:])):
             lines.append(f"![{method} {key}](confusion/{method}-{key}.png)")
+    if (pathlib.Path(out) / "features.png").exists():
+        lines += ["", "## Feature space", "",
+                  "The kNN's features over the training objects, per class (the report's "
+                  "figures 19-22):", "", "![mean and standard deviation per class](features.png)"]
     if model_pictures:
         overview = pathlib.Path(model_pictures) / "overview.png"
         if overview.exists():
@@ -150,7 +185,7 @@ def write_index(out, summary, classes, model_pictures):
     (pathlib.Path(out) / "index.md").write_text("\n".join(lines) + "\n")
 
 
-def make_report(results_folder, out, model_pictures=None):
+def make_report(results_folder, out, model_pictures=None, feature_objects=None):
     """Write the report into `out`, built in a sibling folder and renamed into place."""
     found = discover(results_folder)
     results = {m: {t: load_results(p) for t, p in by_t.items()} for m, by_t in found.items()}
@@ -179,6 +214,9 @@ def make_report(results_folder, out, model_pictures=None):
                                   classes, os.path.join(staging, "precision_recall",
                                                         f"{method}.png"))
         plot_accuracy(summary, os.path.join(staging, "accuracy.png"))
+        if feature_objects:
+            plot_feature_distributions(feature_objects, classes,
+                                       os.path.join(staging, "features.png"))
         with open(os.path.join(staging, "summary.json"), "w", encoding="utf-8") as stream:
             json.dump({"classes": classes, "methods": summary}, stream, indent=2)
         write_index(staging, summary, classes, model_pictures)
@@ -201,10 +239,13 @@ def main(argv=None):
     parser.add_argument("--out", required=True, help="report folder (replaced if it is one)")
     parser.add_argument("--model-pictures", metavar="FOLDER",
                         help="render_models output to show in index.md")
+    parser.add_argument("--feature-objects", metavar="FOLDER",
+                        help="training objects folder whose kNN features (mean and std of x, "
+                             "y, z) to picture per class")
     args = parser.parse_args(argv)
     try:
-        summary = make_report(args.results, args.out, args.model_pictures)
-    except (ResultsError, OSError) as error:
+        summary = make_report(args.results, args.out, args.model_pictures, args.feature_objects)
+    except (ResultsError, CloudError, OSError) as error:
         print(f"make_report: error: {error}", file=sys.stderr)
         return 1
     for method, by_threshold in sorted(summary.items()):

@@ -244,13 +244,22 @@ std::vector<float> SupervisedClassifier::features(const Cloud& object) const {
 }
 
 std::string SupervisedClassifier::predict(const std::vector<float>& features) const {
+  return predictWithScore(features).label;
+}
+
+SupervisedPrediction SupervisedClassifier::predictWithScore(
+    const std::vector<float>& features) const {
   const cv::Mat row = impl_->prepare(features);
   float response = 0.0f;
+  double score = 1.0;
   if (impl_->method == SupervisedMethod::kKnn) {
     // findNearest keeps no state, unlike predict's default path; safe from several threads.
     const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
-    cv::Mat results;
-    response = knn->findNearest(row, impl_->config.knn.k, results);
+    cv::Mat results, neighbours;
+    response = knn->findNearest(row, impl_->config.knn.k, results, neighbours);
+    if (neighbours.cols > 0) {
+      score = static_cast<double>(cv::countNonZero(neighbours == response)) / neighbours.cols;
+    }
   } else {
     response = impl_->model->predict(row);
   }
@@ -258,7 +267,7 @@ std::string SupervisedClassifier::predict(const std::vector<float>& features) co
   if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {
     throw std::runtime_error("the classifier answered an unknown class " + std::to_string(index));
   }
-  return impl_->labels[static_cast<std::size_t>(index)];
+  return {impl_->labels[static_cast<std::size_t>(index)], score};
 }
 
 SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,

@@ -113,18 +113,19 @@ std::vector<std::uint8_t> occupancy(const PointsByCell& sorted, const Grid& grid
   return state;
 }
 
-// Labels the kOccupied component (8-connected) of `seed` kLabelled and returns its cells in
-// breadth-first order; `cells` is reused storage.
-void growComponent(std::uint32_t seed, const Grid& grid, std::vector<std::uint8_t>& state,
-                   std::vector<std::uint32_t>& cells) {
+// Labels the kOccupied component of `seed` (cells at most `link` rows and columns apart are
+// connected; 1 is 8-connectivity) kLabelled and returns its cells in breadth-first order;
+// `cells` is reused storage.
+void growComponent(std::uint32_t seed, const Grid& grid, int link,
+                   std::vector<std::uint8_t>& state, std::vector<std::uint32_t>& cells) {
   cells.clear();
   cells.push_back(seed);
   state[seed] = kLabelled;
   for (std::size_t head = 0; head < cells.size(); ++head) {
     const int row = static_cast<int>(cells[head] / grid.side);
     const int col = static_cast<int>(cells[head] % grid.side);
-    for (int r = std::max(row - 1, 0); r <= std::min(row + 1, grid.side - 1); ++r) {
-      for (int c = std::max(col - 1, 0); c <= std::min(col + 1, grid.side - 1); ++c) {
+    for (int r = std::max(row - link, 0); r <= std::min(row + link, grid.side - 1); ++r) {
+      for (int c = std::max(col - link, 0); c <= std::min(col + link, grid.side - 1); ++c) {
         const std::uint32_t neighbour = static_cast<std::uint32_t>(r * grid.side + c);
         if (state[neighbour] == kOccupied) {
           state[neighbour] = kLabelled;
@@ -241,6 +242,8 @@ void validate(const SegmentationConfig& config) {
   require(std::isfinite(config.height_threshold) && config.height_threshold >= 0.0,
           "height_threshold must be a finite number, not negative");
   require(config.min_cells >= 1, "min_cells must be at least 1");
+  require(config.link_cells >= 1 && config.link_cells <= 100,
+          "link_cells must be between 1 and 100");
   require(config.max_length > 0.0, "max_length must be positive (infinity keeps every box)");
 }
 
@@ -264,7 +267,7 @@ std::vector<Segment> segmentCloud(const Cloud& cloud, const SegmentationConfig& 
     if (state[seed] != kOccupied) {
       continue;
     }
-    growComponent(seed, grid, state, cells);
+    growComponent(seed, grid, config.link_cells, state, cells);
     if (cells.size() < config.min_cells) {
       continue;
     }

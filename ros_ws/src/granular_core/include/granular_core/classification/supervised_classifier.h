@@ -69,6 +69,13 @@ struct TrainingSummary {
   std::size_t grid_points = 0;     ///< SVM: (nu, gamma) pairs tried
 };
 
+/// A label and how clearly it won: the share of the k neighbours that voted for it (kNN), or 1
+/// (nu-SVM: OpenCV gives no calibrated probability).
+struct SupervisedPrediction {
+  std::string label;
+  double score = 1.0;
+};
+
 /// A trained supervised classifier: its method, the configuration its features were computed
 /// with, the labels, the standardisation and the OpenCV model.
 class SupervisedClassifier {
@@ -100,6 +107,8 @@ class SupervisedClassifier {
   std::vector<float> features(const Cloud& object) const;
   /// The label of a feature vector. Thread-safe.
   std::string predict(const std::vector<float>& features) const;
+  /// The label with its score. Thread-safe.
+  SupervisedPrediction predictWithScore(const std::vector<float>& features) const;
 
  private:
   SupervisedClassifier();

@@ -19,6 +19,11 @@ struct SegmentationConfig {
   double extent = 100.0;
   /// m; a cell is occupied when max z - min z of its points exceeds this.
   double height_threshold = 0.15;
+  /// Occupied cells up to this many cells apart (in rows and columns) belong to one component;
+  /// 1, the paper's, joins touching cells only (8-connectivity). A LiDAR whose returns lie
+  /// farther apart than a cell along a surface (the simulated one's 1 deg azimuth step leaves
+  /// 0.35 m at 20 m) splits an object into stripes unless gaps are bridged.
+  int link_cells = 1;
   /// Components with fewer occupied cells are dropped (noise).
   std::size_t min_cells = 2;
   /// Boxes holding fewer points (Segment::indices) are dropped.
@@ -29,7 +34,8 @@ struct SegmentationConfig {
 };
 
 /// Throws std::invalid_argument naming the field for a non-positive or non-finite cell_size or
-/// extent, a grid of more than 10,000 cells a side, a negative or non-finite height_threshold,
+/// extent, a grid of more than 10,000 cells a side, link_cells below 1, a negative or
+/// non-finite height_threshold,
 /// min_cells of 0 or a max_length that is not positive.
 void validate(const SegmentationConfig& config);
 

@@ -1,0 +1,104 @@
+// segment_cloud: boxes for clouds without detections (Himmelsbach et al., section II). Each
+// cloud on ~input becomes a Detection3DArray on ~output, one box labelled "unknown" per
+// connected component of the occupancy grid, for the online classifier to classify.
+#include <chrono>
+#include <string>
+
+#include <granular_core/segmentation/occupancy_segmentation.h>
+#include <lgsvl_msgs/Detection3DArray.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include "granular_ros/conversions.h"
+#include "granular_ros/latency.h"
+
+namespace {
+
+granular::SegmentationConfig readConfig(const ros::NodeHandle& node) {
+  granular::SegmentationConfig config;
+  node.param("cell_size", config.cell_size, config.cell_size);
+  node.param("extent", config.extent, config.extent);
+  node.param("height_threshold", config.height_threshold, config.height_threshold);
+  node.param("link_cells", config.link_cells, config.link_cells);
+  int min_cells = static_cast<int>(config.min_cells);
+  int min_points = static_cast<int>(config.min_points);
+  node.param("min_cells", min_cells, min_cells);
+  node.param("min_points", min_points, min_points);
+  if (min_cells < 1 || min_points < 0) {
+    throw std::invalid_argument("~min_cells must be at least 1 and ~min_points at least 0");
+  }
+  config.min_cells = static_cast<std::size_t>(min_cells);
+  config.min_points = static_cast<std::size_t>(min_points);
+  node.param("max_length", config.max_length, config.max_length);
+  granular::validate(config);
+  return config;
+}
+
+class SegmentCloud {
+ public:
+  explicit SegmentCloud(ros::NodeHandle& node, ros::NodeHandle& private_node)
+      : config_(readConfig(private_node)),
+        report_interval_(private_node.param("report_interval", 10.0)) {
+    publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
+    subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
+    timer_ = node.createSteadyTimer(ros::WallDuration(report_interval_), [this](const auto&) {
+      if (latency_.frames() > 0) {
+        ROS_INFO_STREAM("segment_cloud: time per cloud " << latency_.recent());
+      }
+    });
+    ROS_INFO_STREAM("segment_cloud: " << config_.cell_size << " m cells over "
+                                      << config_.extent << " m, threshold "
+                                      << config_.height_threshold << " m, on "
+                                      << subscriber_.getTopic());
+  }
+
+  ~SegmentCloud() { ROS_INFO_STREAM("segment_cloud: " << latency_.total()); }
+
+ private:
+  void onCloud(const sensor_msgs::PointCloud2ConstPtr& message) {
+    const auto start = std::chrono::steady_clock::now();
+    granular::Cloud cloud;
+    try {
+      cloud = granular_ros::toCloud(*message);
+    } catch (const std::exception& error) {
+      ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: skipping a cloud: " << error.what());
+      return;
+    }
+    lgsvl_msgs::Detection3DArray output;
+    output.header = message->header;
+    const std::vector<granular::Segment> segments = granular::segmentCloud(cloud, config_);
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      lgsvl_msgs::Detection3D detection =
+          granular_ros::toMessage(segments[i].box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
+      detection.header = message->header;
+      output.detections.push_back(detection);
+    }
+    publisher_.publish(output);
+    latency_.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                           start).count());
+  }
+
+  granular::SegmentationConfig config_;
+  double report_interval_;
+  ros::Subscriber subscriber_;
+  ros::Publisher publisher_;
+  ros::SteadyTimer timer_;
+  granular_ros::LatencyStats latency_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "segment_cloud");
+  ros::NodeHandle node;
+  ros::NodeHandle private_node("~");
+  std::unique_ptr<SegmentCloud> segmenter;
+  try {
+    segmenter = std::make_unique<SegmentCloud>(node, private_node);
+  } catch (const std::exception& error) {
+    ROS_FATAL_STREAM("segment_cloud: " << error.what());
+    return 1;
+  }
+  ros::spin();
+  return 0;
+}

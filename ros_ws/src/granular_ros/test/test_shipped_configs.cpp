@@ -1,0 +1,84 @@
+// The shipped config/supervised.yaml and config/segmentation.yaml load, validate, and state the
+// defaults (where they differ on purpose, the test says which value and why).
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "granular_ros/segmentation_config_yaml.h"
+#include "granular_ros/supervised_config_yaml.h"
+
+namespace granular_ros {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ShippedConfigTest, SupervisedYamlStatesTheDefaults) {
+  granular::SupervisedConfig config;
+  config.knn.k = 9;  // values the file must set back
+  config.svm.nu = {0.9};
+  config.histograms.bins = 3;
+  config.histograms.scatter = granular::ScatterDefinition::kLargest;
+  ASSERT_NO_THROW(loadSupervisedConfig(fs::path(GRANULAR_CONFIG_DIR) / "supervised.yaml", config));
+  EXPECT_NO_THROW(granular::validate(config));
+  const granular::SupervisedConfig defaults;
+  EXPECT_EQ(config.knn.k, defaults.knn.k);
+  EXPECT_EQ(config.knn.standardize, defaults.knn.standardize);
+  EXPECT_EQ(config.svm.nu, defaults.svm.nu);
+  EXPECT_EQ(config.svm.log2_gamma_min, defaults.svm.log2_gamma_min);
+  EXPECT_EQ(config.svm.folds, defaults.svm.folds);
+  EXPECT_EQ(granular::featureConfigDifference(granular::SupervisedMethod::kSvm,
+                                              config.histograms, defaults.histograms),
+            "");
+}
+
+TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
+  granular::SegmentationConfig config;
+  config.cell_size = 1.0;
+  config.height_threshold = 1.0;
+  ASSERT_NO_THROW(
+      loadSegmentationConfig(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", config));
+  EXPECT_NO_THROW(granular::validate(config));
+  const granular::SegmentationConfig defaults;
+  EXPECT_EQ(config.cell_size, defaults.cell_size);
+  EXPECT_EQ(config.extent, defaults.extent);
+  EXPECT_EQ(config.height_threshold, defaults.height_threshold);
+  EXPECT_EQ(config.min_cells, defaults.min_cells);
+  EXPECT_EQ(config.min_points, defaults.min_points);
+  EXPECT_EQ(config.max_length, defaults.max_length);
+  // The simulated LiDAR's 1 deg azimuth step needs gaps bridged (docs/online.md).
+  EXPECT_EQ(config.link_cells, 3);
+}
+
+TEST(ShippedConfigTest, BadValuesNameTheFileAndTheKey) {
+  const fs::path file = fs::temp_directory_path() /
+                        ("granular_ros_shipped_" + std::to_string(std::random_device()()) + ".yaml");
+  const auto errorOf = [&](const std::string& content, auto load) {
+    std::ofstream(file) << content;
+    try {
+      load();
+    } catch (const std::runtime_error& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  granular::SupervisedConfig supervised;
+  EXPECT_NE(errorOf("histograms: {scatter: middle}\n",
+                    [&] { loadSupervisedConfig(file, supervised); })
+                .find("histograms.scatter: expected smallest or largest, got 'middle'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("knn: {standardize: maybe}\n", [&] { loadSupervisedConfig(file, supervised); })
+                .find("knn.standardize: expected true or false"),
+            std::string::npos);
+  granular::SegmentationConfig segmentation;
+  EXPECT_NE(errorOf("cell: 0.2\n", [&] { loadSegmentationConfig(file, segmentation); })
+                .find(file.string() + ": cell: unknown key"),
+            std::string::npos);
+  fs::remove(file);
+}
+
+}  // namespace
+}  // namespace granular_ros

@@ -1,0 +1,1 @@
+"""Watching the online nodes: what they publish, against the ground truth."""

@@ -1,0 +1,65 @@
+"""Behind scripts/bench_online: plays the test bag through launch/online.launch per method."""
+import argparse
+import os
+import subprocess
+import sys
+import time
+
+import rosbag
+import rosgraph
+import rospy
+
+from granular_tools.online.monitor import OnlineMonitor
+
+REGISTRATION = ("icp", "icp_nl", "ndt")
+
+
+def models_of(evaluation, method):
+    if method in REGISTRATION:
+        return os.path.join(evaluation, "train", "models")
+    return os.path.join(evaluation, "classifiers", f"{method}.yml")
+
+
+def main():
+    parser = argparse.ArgumentParser(prog="bench_online")
+    parser.add_argument("--evaluation", required=True)
+    parser.add_argument("--launch", required=True)
+    parser.add_argument("--rate", type=float, default=10.0,
+                        help="playback speed factor (default %(default)s); a method slower than "
+                             "the frames come drops some (answered < frames)")
+    parser.add_argument("--methods", default="svm,knn,icp,ndt")
+    args = parser.parse_args()
+    bag = os.path.join(args.evaluation, "..", "test.bag")
+    # The frames with detections (bag_to_files kept them): each should get an answer.
+    pairs = len(os.listdir(os.path.join(args.evaluation, "test", "frames", "pcd")))
+    with rosbag.Bag(bag) as reader:
+        duration = reader.get_end_time() - reader.get_start_time()
+    for _ in range(100):
+        if rosgraph.is_master_online():
+            break
+        time.sleep(0.1)
+    rospy.init_node("bench_online", anonymous=True)
+    offered = pairs / duration * args.rate
+    print(f"{os.path.basename(bag)}: {duration:.0f} s played at {args.rate:g}x: {pairs} frames "
+          f"with detections, {offered:.0f} a second")
+    print(f"{'method':<8} {'answered':>9} {'mean ms':>8} {'p95 ms':>7} {'frames/s':>9} "
+          f"{'accuracy':>9} {'p95 / 0.1 s':>12}")
+    for method in args.methods.split(","):
+        monitor = OnlineMonitor()
+        subprocess.run(["roslaunch", args.launch, f"bag:={bag}", f"method:={method}",
+                        f"models:={models_of(args.evaluation, method)}", "rviz:=false",
+                        f"rate:={args.rate}", "exit_when_done:=true"],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(1.0)
+        monitor.close()
+        frames, mean, p95 = monitor.latency()
+        correct, judged = monitor.accuracy()
+        # frames/s: what the node can process, one frame after the other (1000 / mean ms).
+        print(f"{method:<8} {frames:>4}/{pairs:<4} {mean:>8.2f} {p95:>7.2f} "
+              f"{1000 / max(mean, 1e-9):>9.0f} {correct / max(judged, 1):>9.3f} "
+              f"{p95 / 100:>12.3f}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -87,13 +87,8 @@ Options parseArguments(int argc, char** argv) {
 
 std::vector<granular::ModelCloud> readObjects(const std::filesystem::path& folder) {
   std::vector<granular::ModelCloud> objects;
-  for (const auto& [label, files] : granular::listObjectFiles(folder)) {
-    for (const std::filesystem::path& file : files) {
-      objects.push_back(granular::readModelPcd(file));
-    }
-  }
-  if (objects.empty()) {
-    throw std::runtime_error(folder.string() + ": no object PCDs");
+  for (const std::filesystem::path& file : granular::listAllObjectFiles(folder)) {
+    objects.push_back(granular::readModelPcd(file));
   }
   return objects;
 }

@@ -3,15 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
-#include <system_error>
 
 #include <nlohmann/json.hpp>
 
+#include "granular_core/io/atomic_output.h"
 #include "granular_core/models/build_models.h"
 #include "granular_core/models/model_cloud.h"
 
@@ -183,20 +182,14 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
     run.models.push_back(model.label);
   }
 
+  std::map<std::string, std::vector<fs::path>> by_class;
+  const std::vector<fs::path> files = listAllObjectFiles(objects, &by_class);
   std::vector<std::string> unnamed;
-  const std::map<std::string, std::vector<fs::path>> by_class = listObjectFiles(objects, &unnamed);
-  std::vector<fs::path> files;
-  for (const auto& [label, paths] : by_class) {
-    files.insert(files.end(), paths.begin(), paths.end());
+  for (const fs::path& file : files) {
+    if (objectClass(file).empty()) {
+      unnamed.push_back(file.filename().string());
+    }
   }
-  for (const std::string& name : unnamed) {
-    files.push_back(objects / name);
-  }
-  if (files.empty()) {
-    throw std::runtime_error(objects.string() +
-                             ": no object PCDs (<Class>-<stamp>-<index>.pcd) in this folder");
-  }
-  std::sort(files.begin(), files.end());
 
   std::vector<std::string> without_model;
   for (const auto& [label, paths] : by_class) {
@@ -300,21 +293,7 @@ void writeClassificationJson(const fs::path& file, const ClassificationRun& run)
                                    {"accuracy", accuracy},
                                    {"warnings", run.warnings}};
 
-  const fs::path partial = file.parent_path() / ("." + file.filename().string() + ".partial");
-  std::ofstream stream(partial, std::ios::trunc);
-  stream << document.dump(1) << '\n';
-  stream.close();
-  std::error_code error;
-  if (!stream) {
-    fs::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write (through " + partial.string() + ")");
-  }
-  fs::rename(partial, file, error);
-  if (error) {
-    const std::string reason = error.message();
-    fs::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write: " + reason);
-  }
+  writeFileAtomically(file, document.dump(1) + "\n", "JSON");
 }
 
 }  // namespace granular

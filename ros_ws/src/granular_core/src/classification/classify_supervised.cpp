@@ -6,10 +6,8 @@
 #include <exception>
 #include <map>
 #include <numeric>
-#include <fstream>
 #include <set>
 #include <stdexcept>
-#include <system_error>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -17,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "granular_core/io/atomic_output.h"
 #include "granular_core/io/pcd_io.h"
 #include "granular_core/models/build_models.h"
 
@@ -35,23 +34,6 @@ std::size_t finitePoints(const Cloud& cloud) {
       cloud.points.begin(), cloud.points.end(), [](const PointXYZIT& p) {
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
       }));
-}
-
-std::vector<fs::path> objectFiles(const fs::path& folder) {
-  std::vector<std::string> unnamed;
-  std::vector<fs::path> files;
-  for (const auto& [label, paths] : listObjectFiles(folder, &unnamed)) {
-    files.insert(files.end(), paths.begin(), paths.end());
-  }
-  for (const std::string& name : unnamed) {
-    files.push_back(folder / name);
-  }
-  if (files.empty()) {
-    throw std::runtime_error(folder.string() +
-                             ": no object PCDs (<Class>-<stamp>-<index>.pcd) in this folder");
-  }
-  std::sort(files.begin(), files.end());
-  return files;
 }
 
 // Runs work(i) for every object on `threads` threads; the first exception is rethrown.
@@ -90,7 +72,7 @@ FolderFeatures computeFolderFeatures(const fs::path& folder, FeatureKind kind,
                                      const PointHistogramConfig& config, int threads,
                                      const std::function<void(std::size_t, std::size_t)>& progress) {
   validate(config);
-  const std::vector<fs::path> files = objectFiles(folder);
+  const std::vector<fs::path> files = listAllObjectFiles(folder);
   FolderFeatures result;
   result.files.resize(files.size());
   result.labels.resize(files.size());
@@ -116,7 +98,7 @@ SupervisedRun classifyFolderSupervised(const SupervisedClassifier& classifier,
                                        const fs::path& folder, int threads,
                                        const std::function<void(std::size_t, std::size_t)>& progress) {
   const auto start = Clock::now();
-  const std::vector<fs::path> files = objectFiles(folder);
+  const std::vector<fs::path> files = listAllObjectFiles(folder);
   SupervisedRun run;
   run.method = classifier.method();
   run.files.resize(files.size());
@@ -193,20 +175,7 @@ void writeSupervisedJson(const fs::path& file, const SupervisedRun& run,
       {"accuracy", labelled > 0 ? static_cast<double>(correct) / labelled : 0.0},
       {"warnings", run.warnings}};
 
-  const fs::path partial = file.parent_path() / ("." + file.filename().string() + ".partial");
-  std::ofstream stream(partial, std::ios::trunc);
-  stream << document.dump(1) << '\n';
-  stream.close();
-  std::error_code error;
-  if (!stream) {
-    fs::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write");
-  }
-  fs::rename(partial, file, error);
-  if (error) {
-    fs::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write: " + error.message());
-  }
+  writeFileAtomically(file, document.dump(1) + "\n", "JSON");
 }
 
 }  // namespace granular

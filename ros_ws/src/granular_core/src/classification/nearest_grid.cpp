@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "granular_core/classification/nearest_points.h"
+
 namespace granular {
 namespace {
 
@@ -11,18 +13,6 @@ constexpr double kMaxCells = 4.0e6;
 // Cells are sized for about this many points each if the points filled the bounding box;
 // surface clouds leave most cells empty and a few points in the others.
 constexpr double kPointsPerCellVolume = 0.125;
-
-// FLANN's L2_Simple, operation for operation.
-inline float squaredDistance(const float* a, const float* b) {
-  float result = 0.0f;
-  const float dx = a[0] - b[0];
-  result += dx * dx;
-  const float dy = a[1] - b[1];
-  result += dy * dy;
-  const float dz = a[2] - b[2];
-  result += dz * dz;
-  return result;
-}
 
 }  // namespace
 
@@ -117,7 +107,7 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
           const std::size_t cell =
               (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
           for (std::uint32_t p = cell_start_[cell]; p < cell_start_[cell + 1]; ++p) {
-            const float distance = squaredDistance(query, &points_[3 * p]);
+            const float distance = flannSquaredDistance(query, &points_[3 * p]);
             if (distance < result.distance ||
                 (distance == result.distance && result.found && indices_[p] < result.index)) {
               result.distance = distance;

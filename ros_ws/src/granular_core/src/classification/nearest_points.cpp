@@ -9,21 +9,9 @@ namespace {
 constexpr std::uint32_t kLeafPoints = 8;
 constexpr int kMaxDepth = 64;
 
-// FLANN's L2_Simple, operation for operation.
-inline float squaredDistance(const float* a, const float* b) {
-  float result = 0.0f;
-  const float dx = a[0] - b[0];
-  result += dx * dx;
-  const float dy = a[1] - b[1];
-  result += dy * dy;
-  const float dz = a[2] - b[2];
-  result += dz * dz;
-  return result;
-}
-
-// Squared distance from `query` to a box, summed in the same axis order as squaredDistance
+// Squared distance from `query` to a box, summed in the same axis order as flannSquaredDistance
 // and from per-axis terms no larger than any contained point's: rounding is monotonic, so it
-// never exceeds squaredDistance(query, p) for a point p in the box, and pruning by it is exact.
+// never exceeds flannSquaredDistance(query, p) for a point p in the box, and pruning by it is exact.
 template <typename Box>
 inline float boxDistance(const float* query, const Box& box) {
   float result = 0.0f;
@@ -120,7 +108,7 @@ NearestPoints::Result NearestPoints::nearest(const float query[3], float bound) 
     const Node& node = nodes_[static_cast<std::size_t>(index)];
     if (node.first_child < 0) {
       for (std::uint32_t p = node.begin; p < node.end; ++p) {
-        const float distance = squaredDistance(query, &points_[3 * p]);
+        const float distance = flannSquaredDistance(query, &points_[3 * p]);
         if (distance < result.distance) {
           result.distance = distance;
           result.index = indices_[p];

@@ -14,6 +14,7 @@
 
 #include "granular_core/extraction/detections.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "granular_core/io/atomic_output.h"
 #include "granular_core/io/pcd_io.h"
 
 namespace granular {
@@ -60,29 +61,6 @@ std::vector<std::string> pairStamps(const std::set<std::string>& pcd_stamps,
   return paired;
 }
 
-// Removes the folder on scope exit unless release() was called.
-class StagingFolder {
- public:
-  explicit StagingFolder(fs::path path) : path_(std::move(path)) {
-    fs::remove_all(path_);
-    fs::create_directory(path_);
-  }
-  ~StagingFolder() {
-    if (!released_) {
-      std::error_code ignored;
-      fs::remove_all(path_, ignored);
-    }
-  }
-  StagingFolder(const StagingFolder&) = delete;
-  StagingFolder& operator=(const StagingFolder&) = delete;
-
-  const fs::path& path() const { return path_; }
-  void release() { released_ = true; }
-
- private:
-  fs::path path_;
-  bool released_ = false;
-};
 
 struct ObjectsFolder {
   std::size_t threshold;
@@ -117,20 +95,6 @@ void linkOrCopy(const fs::path& from, const fs::path& to) {
   fs::create_hard_link(from, to, error);
   if (error) {
     fs::copy_file(from, to);
-  }
-}
-
-// Puts `staging` in place of `target`, which may exist; `target` is missing only between the
-// two renames.
-void replaceFolder(const fs::path& staging, const fs::path& target, const std::string& suffix) {
-  if (fs::exists(target)) {
-    const fs::path previous =
-        target.parent_path() / ("." + target.filename().string() + ".previous-" + suffix);
-    fs::rename(target, previous);
-    fs::rename(staging, target);
-    fs::remove_all(previous);
-  } else {
-    fs::rename(staging, target);
   }
 }
 

@@ -1,13 +1,14 @@
 #include "granular_core/io/pcd_io.h"
 
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
 #include <pcl/io/pcd_io.h>
+
+#include "granular_core/io/atomic_output.h"
 
 namespace granular {
 namespace {
@@ -119,23 +120,7 @@ void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud) {
     at += kRecord;
   }
 
-  const std::filesystem::path partial =
-      file.parent_path() / ("." + file.filename().string() + ".partial");
-  std::ofstream stream(partial, std::ios::binary | std::ios::trunc);
-  stream.write(content.data(), static_cast<std::streamsize>(content.size()));
-  stream.close();
-  std::error_code error;
-  if (!stream) {
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PCD (through " + partial.string() +
-                             ")");
-  }
-  std::filesystem::rename(partial, file, error);
-  if (error) {
-    const std::string reason = error.message();
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PCD: " + reason);
-  }
+  writeFileAtomically(file, content, "PCD");
 }
 
 }  // namespace granular

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "granular_core/io/atomic_output.h"
 #include "granular_core/io/pcd_io.h"
 #include "granular_core/models/concatenate.h"
 #include "granular_core/models/icp_concatenate.h"
@@ -22,43 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// Removes the folder on scope exit unless release() was called.
-class StagingFolder {
- public:
-  explicit StagingFolder(fs::path path) : path_(std::move(path)) {
-    fs::remove_all(path_);
-    fs::create_directory(path_);
-  }
-  ~StagingFolder() {
-    if (!released_) {
-      std::error_code ignored;
-      fs::remove_all(path_, ignored);
-    }
-  }
-  StagingFolder(const StagingFolder&) = delete;
-  StagingFolder& operator=(const StagingFolder&) = delete;
-
-  const fs::path& path() const { return path_; }
-  void release() { released_ = true; }
-
- private:
-  fs::path path_;
-  bool released_ = false;
-};
-
-// Puts `staging` in place of `target`, which may exist; `target` is missing only between the
-// two renames.
-void replaceFolder(const fs::path& staging, const fs::path& target, const std::string& suffix) {
-  if (fs::exists(target)) {
-    const fs::path previous =
-        target.parent_path() / ("." + target.filename().string() + ".previous-" + suffix);
-    fs::rename(target, previous);
-    fs::rename(staging, target);
-    fs::remove_all(previous);
-  } else {
-    fs::rename(staging, target);
-  }
-}
 
 // The absolute path without a trailing separator, so that it has a file name.
 fs::path absolutePath(const fs::path& path) {
@@ -269,6 +233,28 @@ std::map<std::string, std::vector<fs::path>> listObjectFiles(const fs::path& fol
   }
   if (unnamed != nullptr) {
     std::sort(unnamed->begin(), unnamed->end());
+  }
+  return files;
+}
+
+std::vector<fs::path> listAllObjectFiles(const fs::path& folder,
+                                         std::map<std::string, std::vector<fs::path>>* by_class) {
+  std::vector<std::string> unnamed;
+  const std::map<std::string, std::vector<fs::path>> classes = listObjectFiles(folder, &unnamed);
+  std::vector<fs::path> files;
+  for (const auto& [label, paths] : classes) {
+    files.insert(files.end(), paths.begin(), paths.end());
+  }
+  for (const std::string& name : unnamed) {
+    files.push_back(folder / name);
+  }
+  if (files.empty()) {
+    throw std::runtime_error(folder.string() +
+                             ": no object PCDs (<Class>-<stamp>-<index>.pcd) in this folder");
+  }
+  std::sort(files.begin(), files.end());
+  if (by_class != nullptr) {
+    *by_class = classes;
   }
   return files;
 }

@@ -2,13 +2,14 @@
 
 #include <cmath>
 #include <stdexcept>
-#include <system_error>
 
 #include <pcl/common/io.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/gp3.h>
+
+#include "granular_core/io/atomic_output.h"
 
 namespace granular {
 namespace {
@@ -51,20 +52,9 @@ pcl::PolygonMesh triangulate(const ModelCloud& model, const MeshConfig& config) 
 }
 
 void writeMeshPly(const std::filesystem::path& file, const pcl::PolygonMesh& mesh) {
-  const std::filesystem::path partial =
-      file.parent_path() / ("." + file.filename().string() + ".partial");
-  std::error_code error;
-  if (pcl::io::savePLYFileBinary(partial.string(), mesh) != 0) {
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PLY (through " + partial.string() +
-                             ")");
-  }
-  std::filesystem::rename(partial, file, error);
-  if (error) {
-    const std::string reason = error.message();
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PLY: " + reason);
-  }
+  writeThroughTemporary(file, "PLY", [&](const std::filesystem::path& partial) {
+    return pcl::io::savePLYFileBinary(partial.string(), mesh) == 0;
+  });
 }
 
 }  // namespace granular

@@ -2,11 +2,10 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
-#include <system_error>
 
+#include "granular_core/io/atomic_output.h"
 #include "granular_core/io/pcd_io.h"
 
 namespace granular {
@@ -48,23 +47,7 @@ void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud) {
     at += kRecord;
   }
 
-  const std::filesystem::path partial =
-      file.parent_path() / ("." + file.filename().string() + ".partial");
-  std::ofstream stream(partial, std::ios::binary | std::ios::trunc);
-  stream.write(content.data(), static_cast<std::streamsize>(content.size()));
-  stream.close();
-  std::error_code error;
-  if (!stream) {
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PCD (through " + partial.string() +
-                             ")");
-  }
-  std::filesystem::rename(partial, file, error);
-  if (error) {
-    const std::string reason = error.message();
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write PCD: " + reason);
-  }
+  writeFileAtomically(file, content, "PCD");
 }
 
 }  // namespace granular

@@ -7,6 +7,19 @@
 
 namespace granular {
 
+/// The squared distance of two x y z points as FLANN's L2_Simple computes it, operation for
+/// operation: ((0 + dx*dx) + dy*dy) + dz*dz in float.
+inline float flannSquaredDistance(const float* a, const float* b) {
+  float result = 0.0f;
+  const float dx = a[0] - b[0];
+  result += dx * dx;
+  const float dy = a[1] - b[1];
+  result += dy * dy;
+  const float dz = a[2] - b[2];
+  result += dz * dz;
+  return result;
+}
+
 /// Exact nearest-point search in a fixed cloud: a kd-tree with a bounding box on every node,
 /// searched nearest box first without allocation. With a good bound (the caller's guess of the
 /// distance) a query far from the cloud visits only the few nodes whose boxes come that close,

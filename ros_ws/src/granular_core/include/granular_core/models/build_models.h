@@ -63,6 +63,13 @@ std::string objectClass(const std::filesystem::path& file);
 std::map<std::string, std::vector<std::filesystem::path>> listObjectFiles(
     const std::filesystem::path& folder, std::vector<std::string>* unnamed = nullptr);
 
+/// Every object PCD of an objects folder, those without a class in their name included, in
+/// name order; `by_class`, when given, receives them by class as listObjectFiles gives them.
+/// Throws std::runtime_error naming the folder when it is not a folder or holds no object PCD.
+std::vector<std::filesystem::path> listAllObjectFiles(
+    const std::filesystem::path& folder,
+    std::map<std::string, std::vector<std::filesystem::path>>* by_class = nullptr);
+
 /// How buildModels runs, apart from the tunables.
 struct BuildModelsOptions {
   /// Replace an output folder that exists and is not empty (otherwise that is an error).

@@ -310,44 +310,5 @@ TEST(MatchSegmentsTest, NearestPairsGoFirst) {
   EXPECT_EQ(match.unmatched_segments, 1u);
 }
 
-// ---- timing (not a pass/fail test) ---------------------------------------------------------
-
-// Run with --gtest_also_run_disabled_tests --gtest_filter='*Timing*'.
-TEST(SegmentationTiming, DISABLED_TenToTheFivePoints) {
-  constexpr unsigned kSeed = 7;
-  std::mt19937 random(kSeed);
-  Cloud cloud;
-  // 20 cars of 2,000 points on a circle of 20 m, then ground returns up to 10^5 points over
-  // the disc of radius 50 m, denser near the sensor as a spinning LiDAR's rings are, and none
-  // under the cars (occluded; a few would make the roof cells above them separate segments).
-  std::vector<Eigen::Vector2d> cars;
-  for (int i = 0; i < 20; ++i) {
-    const double angle = 2.0 * kPi * i / 20.0;
-    cars.emplace_back(20.0 * std::cos(angle), 20.0 * std::sin(angle));
-    addBox(cloud, cars.back(), 17.0 * i, {4.4, 1.8, 1.5}, 0.12);
-  }
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  while (cloud.size() < 100000) {
-    const double range = 3.0 + 47.0 * unit(random) * unit(random);
-    const double angle = 2.0 * kPi * unit(random);
-    const Eigen::Vector2d xy(range * std::cos(angle), range * std::sin(angle));
-    if (std::none_of(cars.begin(), cars.end(),
-                     [&](const Eigen::Vector2d& car) { return (xy - car).norm() < 2.5; })) {
-      add(cloud, {xy.x(), xy.y(), kGroundZ + 0.02 * unit(random)});
-    }
-  }
-  std::size_t found = segmentCloud(cloud).size();
-  constexpr int kCalls = 50;
-  const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < kCalls; ++i) {
-    found = segmentCloud(cloud).size();
-  }
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() /
-      kCalls;
-  std::cout << cloud.size() << " points, " << found << " segments: " << ms << " ms per call\n";
-  RecordProperty("ms_per_call", std::to_string(ms));
-}
-
 }  // namespace
 }  // namespace granular

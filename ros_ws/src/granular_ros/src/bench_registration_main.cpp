@@ -58,27 +58,18 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  granular_ros::OptionReader reader(argc, argv);
-  while (reader.next()) {
-    const std::string& name = reader.name();
-    if (name == "--help" || name == "-h") {
-      options.help = reader.flag();
-    } else if (name == "--models") {
-      options.models = reader.value();
-    } else if (name == "--objects") {
-      options.objects = reader.value();
-    } else if (name == "--methods") {
-      options.methods = granular_ros::splitList(name, reader.value());
-    } else if (name == "--preset") {
-      options.preset = reader.value();
-    } else if (name == "--config") {
-      options.config_file = reader.value();
-    } else if (name == "--threads") {
-      options.threads = granular_ros::parseNumber<int>(name, reader.value());
-    } else {
-      reader.unknown();
-    }
-  }
+  granular_ros::OptionTable()
+      .flag("--help", options.help, "-h")
+      .value("--models", options.models)
+      .value("--objects", options.objects)
+      .custom("--methods",
+              [&options](granular_ros::OptionReader& reader) {
+                options.methods = granular_ros::splitList("--methods", reader.value());
+              })
+      .value("--preset", options.preset)
+      .value("--config", options.config_file)
+      .number("--threads", options.threads)
+      .parse(argc, argv);
   if (!options.help && (options.models.empty() || options.objects.empty())) {
     throw std::invalid_argument("--models and --objects are required");
   }

@@ -85,39 +85,30 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  granular_ros::OptionReader reader(argc, argv);
-  while (reader.next()) {
-    const std::string& name = reader.name();
-    if (name == "--help" || name == "-h") {
-      options.help = reader.flag();
-    } else if (name == "--overwrite") {
-      options.overwrite = reader.flag();
-    } else if (name == "--mesh") {
-      options.mesh = reader.flag();
-    } else if (name == "--objects") {
-      options.objects = reader.value();
-    } else if (name == "--out") {
-      options.out = reader.value();
-    } else if (name == "--config") {
-      options.config_file = reader.value();
-    } else if (name == "--method") {
-      options.method = reader.value();
-    } else if (name == "--classes") {
-      options.classes = reader.value();
-    } else if (name == "--seed") {
-      const std::string seed = reader.value();
-      const auto separator = seed.find('=');
-      if (separator == 0 || separator == std::string::npos || separator + 1 == seed.size()) {
-        throw std::invalid_argument("--seed: expected CLASS=FILE.pcd, got '" + seed + "'");
-      }
-      const std::string label = seed.substr(0, separator);
-      if (!options.seeds.emplace(label, seed.substr(separator + 1)).second) {
-        throw std::invalid_argument("--seed: class '" + label + "' given twice");
-      }
-    } else {
-      reader.unknown();
-    }
-  }
+  granular_ros::OptionTable()
+      .flag("--help", options.help, "-h")
+      .flag("--overwrite", options.overwrite)
+      .flag("--mesh", options.mesh)
+      .value("--objects", options.objects)
+      .value("--out", options.out)
+      .value("--config", options.config_file)
+      .value("--method", options.method)
+      .value("--classes", options.classes)
+      .custom("--seed",
+              [&options](granular_ros::OptionReader& reader) {
+                const std::string seed = reader.value();
+                const auto separator = seed.find('=');
+                if (separator == 0 || separator == std::string::npos ||
+                    separator + 1 == seed.size()) {
+                  throw std::invalid_argument("--seed: expected CLASS=FILE.pcd, got '" + seed +
+                                              "'");
+                }
+                const std::string label = seed.substr(0, separator);
+                if (!options.seeds.emplace(label, seed.substr(separator + 1)).second) {
+                  throw std::invalid_argument("--seed: class '" + label + "' given twice");
+                }
+              })
+      .parse(argc, argv);
   if (!options.help && (options.objects.empty() || options.out.empty())) {
     throw std::invalid_argument("--objects and --out are required");
   }

@@ -75,32 +75,22 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  granular_ros::OptionReader reader(argc, argv);
-  while (reader.next()) {
-    const std::string& name = reader.name();
-    if (name == "--help" || name == "-h") {
-      options.help = reader.flag();
-    } else if (name == "--models") {
-      options.models = reader.value();
-    } else if (name == "--objects") {
-      options.objects = reader.value();
-    } else if (name == "--method") {
-      options.method = reader.value();
-    } else if (name == "--out") {
-      options.out = reader.value();
-    } else if (name == "--preset") {
-      options.preset = reader.value();
-    } else if (name == "--config") {
-      options.config_file = reader.value();
-    } else if (name == "--threads") {
-      options.threads = granular_ros::parseNumber<int>(name, reader.value());
-      if (options.threads < 1) {
-        throw std::invalid_argument("--threads: expected at least 1");
-      }
-    } else {
-      reader.unknown();
-    }
-  }
+  granular_ros::OptionTable()
+      .flag("--help", options.help, "-h")
+      .value("--models", options.models)
+      .value("--objects", options.objects)
+      .value("--method", options.method)
+      .value("--out", options.out)
+      .value("--preset", options.preset)
+      .value("--config", options.config_file)
+      .custom("--threads",
+              [&options](granular_ros::OptionReader& reader) {
+                options.threads = granular_ros::parseNumber<int>("--threads", reader.value());
+                if (options.threads < 1) {
+                  throw std::invalid_argument("--threads: expected at least 1");
+                }
+              })
+      .parse(argc, argv);
   if (!options.help && (options.models.empty() || options.objects.empty() ||
                         options.method.empty() || options.out.empty())) {
     throw std::invalid_argument("--models, --objects, --method and --out are required");

@@ -45,6 +45,35 @@ void OptionReader::unknown() const {
   throw std::invalid_argument("unknown option '" + name_ + "'");
 }
 
+OptionTable& OptionTable::flag(const std::string& name, bool& field, const std::string& alias) {
+  custom(name, [&field](OptionReader& reader) { field = reader.flag(); });
+  return alias.empty() ? *this : custom(alias, handlers_.at(name));
+}
+
+OptionTable& OptionTable::value(const std::string& name, std::string& field) {
+  return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
+}
+
+OptionTable& OptionTable::value(const std::string& name, std::optional<std::string>& field) {
+  return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
+}
+
+OptionTable& OptionTable::custom(const std::string& name, Handler handler) {
+  handlers_[name] = std::move(handler);
+  return *this;
+}
+
+void OptionTable::parse(int argc, char** argv) const {
+  OptionReader reader(argc, argv);
+  while (reader.next()) {
+    const auto handler = handlers_.find(reader.name());
+    if (handler == handlers_.end()) {
+      reader.unknown();
+    }
+    handler->second(reader);
+  }
+}
+
 std::vector<std::string> splitList(const std::string& option, const std::string& text) {
   std::vector<std::string> items;
   std::istringstream stream(text);

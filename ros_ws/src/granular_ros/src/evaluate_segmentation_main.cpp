@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -57,24 +58,21 @@ int main(int argc, char** argv) {
   std::size_t min_points = 10;
   granular::SegmentationConfig config;
   try {
-    granular_ros::OptionReader reader(argc, argv);
-    while (reader.next()) {
-      const std::string& name = reader.name();
-      if (name == "--help" || name == "-h") {
-        reader.flag();
-        std::cout << kUsage;
-        return 0;
-      } else if (name == "--frames") {
-        frames = reader.value();
-      } else if (name == "--config") {
-        granular_ros::loadSegmentationConfig(reader.value(), config);
-      } else if (name == "--max-distance") {
-        max_distance = granular_ros::parseNumber<double>(name, reader.value());
-      } else if (name == "--min-points") {
-        min_points = granular_ros::parseNumber<std::size_t>(name, reader.value());
-      } else {
-        reader.unknown();
-      }
+    bool help = false;
+    std::optional<std::string> config_file;
+    granular_ros::OptionTable()
+        .flag("--help", help, "-h")
+        .value("--frames", frames)
+        .value("--config", config_file)
+        .number("--max-distance", max_distance)
+        .number("--min-points", min_points)
+        .parse(argc, argv);
+    if (help) {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (config_file) {
+      granular_ros::loadSegmentationConfig(*config_file, config);
     }
     if (frames.empty()) {
       throw std::invalid_argument("--frames is required");

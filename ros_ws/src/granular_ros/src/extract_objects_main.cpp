@@ -74,29 +74,16 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  granular_ros::OptionReader reader(argc, argv);
-  while (reader.next()) {
-    const std::string& name = reader.name();
-    if (name == "--help" || name == "-h") {
-      options.help = reader.flag();
-    } else if (name == "--overwrite") {
-      options.overwrite = reader.flag();
-    } else if (name == "--in") {
-      options.in = reader.value();
-    } else if (name == "--out") {
-      options.out = reader.value();
-    } else if (name == "--config") {
-      options.config_file = reader.value();
-    } else if (name == "--n-thresh") {
-      options.n_thresh = reader.value();
-    } else if (name == "--labels") {
-      options.labels = reader.value();
-    } else if (name == "--padding") {
-      options.padding = reader.value();
-    } else {
-      reader.unknown();
-    }
-  }
+  granular_ros::OptionTable()
+      .flag("--help", options.help, "-h")
+      .flag("--overwrite", options.overwrite)
+      .value("--in", options.in)
+      .value("--out", options.out)
+      .value("--config", options.config_file)
+      .value("--n-thresh", options.n_thresh)
+      .value("--labels", options.labels)
+      .value("--padding", options.padding)
+      .parse(argc, argv);
   if (!options.help && (options.in.empty() || options.out.empty())) {
     throw std::invalid_argument("--in and --out are required");
   }

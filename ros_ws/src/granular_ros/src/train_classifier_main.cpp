@@ -52,25 +52,14 @@ struct Options {
 
 Options parseArguments(int argc, char** argv) {
   Options options;
-  granular_ros::OptionReader reader(argc, argv);
-  while (reader.next()) {
-    const std::string& name = reader.name();
-    if (name == "--help" || name == "-h") {
-      options.help = reader.flag();
-    } else if (name == "--objects") {
-      options.objects = reader.value();
-    } else if (name == "--method") {
-      options.method = reader.value();
-    } else if (name == "--out") {
-      options.out = reader.value();
-    } else if (name == "--config") {
-      options.config_file = reader.value();
-    } else if (name == "--threads") {
-      options.threads = granular_ros::parseNumber<int>(name, reader.value());
-    } else {
-      reader.unknown();
-    }
-  }
+  granular_ros::OptionTable()
+      .flag("--help", options.help, "-h")
+      .value("--objects", options.objects)
+      .value("--method", options.method)
+      .value("--out", options.out)
+      .value("--config", options.config_file)
+      .number("--threads", options.threads)
+      .parse(argc, argv);
   if (!options.help && (options.objects.empty() || options.method.empty() || options.out.empty())) {
     throw std::invalid_argument("--objects, --method and --out are required");
   }

@@ -3,6 +3,9 @@
 #include <charconv>
 #include <chrono>
 #include <cstddef>
+#include <functional>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,6 +37,29 @@ class OptionReader {
   bool has_inline_value_ = false;
 };
 
+/// A tool's options, each with where its value goes, read in one call:
+///   OptionTable().flag("--help", options.help).value("--out", options.out).parse(argc, argv);
+/// An option given twice keeps the last value; an unknown one is an error naming it.
+class OptionTable {
+ public:
+  using Handler = std::function<void(OptionReader&)>;
+
+  /// An option without a value; also under `alias` (e.g. "-h") when given.
+  OptionTable& flag(const std::string& name, bool& field, const std::string& alias = "");
+  OptionTable& value(const std::string& name, std::string& field);
+  OptionTable& value(const std::string& name, std::optional<std::string>& field);
+  /// A value parsed as a number of T (parseNumber).
+  template <typename T>
+  OptionTable& number(const std::string& name, T& field);
+  /// Any other handling of the current option (reader.value() for its value).
+  OptionTable& custom(const std::string& name, Handler handler);
+
+  void parse(int argc, char** argv) const;
+
+ private:
+  std::map<std::string, Handler> handlers_;
+};
+
 /// The items of a comma-separated list, trimmed; an empty item or list is an error naming
 /// `option`.
 std::vector<std::string> splitList(const std::string& option, const std::string& text);
@@ -47,6 +73,13 @@ T parseNumber(const std::string& option, const std::string& text) {
     throw std::invalid_argument(option + ": '" + text + "' is not a valid number");
   }
   return value;
+}
+
+template <typename T>
+OptionTable& OptionTable::number(const std::string& name, T& field) {
+  return custom(name, [&field, name](OptionReader& reader) {
+    field = parseNumber<T>(name, reader.value());
+  });
 }
 
 /// Progress of long work on stderr, "WHAT: DONE/TOTAL UNIT (P%)": on a terminal one line

@@ -1,12 +1,10 @@
 #include <filesystem>
-#include <fstream>
-#include <random>
-#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "granular_ros/classification_config_yaml.h"
+#include "temporary_yaml.h"
 
 namespace granular_ros {
 namespace {
@@ -41,30 +39,14 @@ TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   EXPECT_FALSE(report.source_min_z);
 }
 
-class BadClassificationConfigTest : public ::testing::Test {
+class BadClassificationConfigTest : public TemporaryYamlTest {
  protected:
-  void SetUp() override {
-    std::random_device entropy;
-    file_ = fs::temp_directory_path() / ("granular_ros_classification_" +
-                                         std::to_string(entropy()) + ".yaml");
-  }
-  void TearDown() override { fs::remove(file_); }
-
   std::string errorOf(const std::string& content) const {
-    std::ofstream(file_) << content;
-    Presets presets = granular::registrationPresets();
-    try {
-      loadRegistrationPresets(file_, presets);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_NE(message.find(file_.string()), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "accepted: " << content;
-    return "";
+    return TemporaryYamlTest::errorOf(content, [](const fs::path& file) {
+      Presets presets = granular::registrationPresets();
+      loadRegistrationPresets(file, presets);
+    });
   }
-
-  fs::path file_;
 };
 
 TEST_F(BadClassificationConfigTest, ErrorsNameTheFileAndTheKey) {
@@ -81,8 +63,8 @@ TEST_F(BadClassificationConfigTest, ErrorsNameTheFileAndTheKey) {
 }
 
 TEST_F(BadClassificationConfigTest, ANewPresetStartsFromTheReportsValues) {
-  std::ofstream(file_) << "presets:\n  mine:\n    icp: {max_iterations: 7}\n"
-                          "    source_min_z: 0.25\n  tuned:\n    source_min_z: null\n";
+  write("presets:\n  mine:\n    icp: {max_iterations: 7}\n"
+        "    source_min_z: 0.25\n  tuned:\n    source_min_z: null\n");
   Presets presets = granular::registrationPresets();
   loadRegistrationPresets(file_, presets);
   granular::RegistrationClassifierConfig expected;

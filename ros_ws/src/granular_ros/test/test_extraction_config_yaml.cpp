@@ -1,12 +1,10 @@
 #include <filesystem>
-#include <fstream>
-#include <random>
-#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "granular_ros/extraction_config_yaml.h"
+#include "temporary_yaml.h"
 
 namespace granular_ros {
 namespace {
@@ -27,31 +25,14 @@ TEST(ExtractionConfigYamlTest, ShippedConfigLoadsAndValidates) {
   EXPECT_EQ(config.labels, defaults.labels);
 }
 
-class BadConfigTest : public ::testing::Test {
+class BadConfigTest : public TemporaryYamlTest {
  protected:
-  void SetUp() override {
-    std::random_device entropy;
-    file_ = fs::temp_directory_path() / ("granular_ros_config_" + std::to_string(entropy()) +
-                                         std::to_string(entropy()) + ".yaml");
-  }
-  void TearDown() override { fs::remove(file_); }
-
-  // The message of loading `content`, which must fail.
   std::string errorOf(const std::string& content) const {
-    std::ofstream(file_) << content;
-    granular::ExtractionConfig config;
-    try {
-      loadExtractionConfig(file_, config);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_NE(message.find(file_.string()), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "accepted: " << content;
-    return "";
+    return TemporaryYamlTest::errorOf(content, [](const fs::path& file) {
+      granular::ExtractionConfig config;
+      loadExtractionConfig(file, config);
+    });
   }
-
-  fs::path file_;
 };
 
 TEST_F(BadConfigTest, ErrorsNameTheFileAndTheKey) {
@@ -73,7 +54,7 @@ TEST_F(BadConfigTest, ErrorsNameTheFileAndTheKey) {
 }
 
 TEST_F(BadConfigTest, KeysLeftOutKeepTheirValues) {
-  std::ofstream(file_) << "labels: [Sedan, SUV]\n";
+  write("labels: [Sedan, SUV]\n");
   granular::ExtractionConfig config;
   config.n_thresh = {10, 50};
   loadExtractionConfig(file_, config);

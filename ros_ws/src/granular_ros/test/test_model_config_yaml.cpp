@@ -1,12 +1,10 @@
 #include <filesystem>
-#include <fstream>
-#include <random>
-#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "granular_ros/model_config_yaml.h"
+#include "temporary_yaml.h"
 
 namespace granular_ros {
 namespace {
@@ -34,36 +32,19 @@ TEST(ModelConfigYamlTest, ShippedConfigStatesTheDefaults) {
   EXPECT_TRUE(config.mesh == defaults.mesh);
 }
 
-class BadModelConfigTest : public ::testing::Test {
+class BadModelConfigTest : public TemporaryYamlTest {
  protected:
-  void SetUp() override {
-    std::random_device entropy;
-    file_ = fs::temp_directory_path() / ("granular_ros_models_" + std::to_string(entropy()) +
-                                         std::to_string(entropy()) + ".yaml");
-  }
-  void TearDown() override { fs::remove(file_); }
-
-  // The message of loading `content`, which must fail.
   std::string errorOf(const std::string& content) const {
-    std::ofstream(file_) << content;
-    granular::ModelBuildConfig config;
-    try {
-      loadModelConfig(file_, config);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_NE(message.find(file_.string()), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "accepted: " << content;
-    return "";
+    return TemporaryYamlTest::errorOf(content, [](const fs::path& file) {
+      granular::ModelBuildConfig config;
+      loadModelConfig(file, config);
+    });
   }
 
   bool mentions(const std::string& content, const std::string& expected) const {
     const std::string message = errorOf(content);
     return message.find(expected) != std::string::npos;
   }
-
-  fs::path file_;
 };
 
 TEST_F(BadModelConfigTest, ErrorsNameTheFileAndTheKey) {
@@ -91,11 +72,11 @@ TEST_F(BadModelConfigTest, ErrorsNameTheFileAndTheKey) {
 }
 
 TEST_F(BadModelConfigTest, KeysLeftOutKeepTheirValuesAndOverridesMerge) {
-  std::ofstream(file_) << "method: icp\n"
-                          "filters:\n  voxel_grid: {leaf_size: 0.12}\n"
-                          "class_filters:\n"
-                          "  SchoolBus: {voxel_grid: {leaf_size: 0.2}}\n"
-                          "  Pedestrian: {order: [pass_through, voxel_grid]}\n";
+  write("method: icp\n"
+        "filters:\n  voxel_grid: {leaf_size: 0.12}\n"
+        "class_filters:\n"
+        "  SchoolBus: {voxel_grid: {leaf_size: 0.2}}\n"
+        "  Pedestrian: {order: [pass_through, voxel_grid]}\n");
   granular::ModelBuildConfig config;
   config.icp.max_fitness = 0.02;
   loadModelConfig(file_, config);

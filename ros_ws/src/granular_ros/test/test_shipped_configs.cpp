@@ -1,15 +1,13 @@
 // The shipped config/supervised.yaml and config/segmentation.yaml load, validate, and state the
 // defaults (where they differ on purpose, the test says which value and why).
 #include <filesystem>
-#include <fstream>
-#include <random>
-#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "granular_ros/segmentation_config_yaml.h"
 #include "granular_ros/supervised_config_yaml.h"
+#include "temporary_yaml.h"
 
 namespace granular_ros {
 namespace {
@@ -53,31 +51,25 @@ TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
   EXPECT_EQ(config.link_cells, 3);
 }
 
-TEST(ShippedConfigTest, BadValuesNameTheFileAndTheKey) {
-  const fs::path file = fs::temp_directory_path() /
-                        ("granular_ros_shipped_" + std::to_string(std::random_device()()) + ".yaml");
-  const auto errorOf = [&](const std::string& content, auto load) {
-    std::ofstream(file) << content;
-    try {
-      load();
-    } catch (const std::runtime_error& error) {
-      return std::string(error.what());
-    }
-    return std::string("accepted");
+using ShippedConfigKeysTest = TemporaryYamlTest;
+
+TEST_F(ShippedConfigKeysTest, BadValuesNameTheFileAndTheKey) {
+  const auto supervised = [](const fs::path& file) {
+    granular::SupervisedConfig config;
+    loadSupervisedConfig(file, config);
   };
-  granular::SupervisedConfig supervised;
-  EXPECT_NE(errorOf("histograms: {scatter: middle}\n",
-                    [&] { loadSupervisedConfig(file, supervised); })
+  const auto segmentation = [](const fs::path& file) {
+    granular::SegmentationConfig config;
+    loadSegmentationConfig(file, config);
+  };
+  EXPECT_NE(errorOf("histograms: {scatter: middle}\n", supervised)
                 .find("histograms.scatter: expected smallest or largest, got 'middle'"),
             std::string::npos);
-  EXPECT_NE(errorOf("knn: {standardize: maybe}\n", [&] { loadSupervisedConfig(file, supervised); })
+  EXPECT_NE(errorOf("knn: {standardize: maybe}\n", supervised)
                 .find("knn.standardize: expected true or false"),
             std::string::npos);
-  granular::SegmentationConfig segmentation;
-  EXPECT_NE(errorOf("cell: 0.2\n", [&] { loadSegmentationConfig(file, segmentation); })
-                .find(file.string() + ": cell: unknown key"),
+  EXPECT_NE(errorOf("cell: 0.2\n", segmentation).find(file_.string() + ": cell: unknown key"),
             std::string::npos);
-  fs::remove(file);
 }
 
 }  // namespace

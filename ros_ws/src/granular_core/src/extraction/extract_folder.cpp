@@ -133,16 +133,7 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
   const std::set<std::string> json_stamps = stems(json_folder, ".json");
 
   const fs::path target = outputPath(out);
-  if (fs::exists(target)) {
-    if (!fs::is_directory(target)) {
-      throw std::runtime_error(target.string() + ": output exists and is not a folder");
-    }
-    if (!fs::is_empty(target) && !options.overwrite) {
-      throw std::runtime_error(target.string() +
-                               ": output folder exists and is not empty; refusing to replace it "
-                               "unless overwrite is set");
-    }
-  }
+  checkReplaceable(target, options.overwrite);
 
   ExtractFolderSummary summary;
   const std::vector<std::string> stamps =

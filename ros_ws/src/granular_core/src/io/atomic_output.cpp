@@ -46,6 +46,20 @@ StagingFolder::~StagingFolder() {
   }
 }
 
+void checkReplaceable(const fs::path& target, bool overwrite) {
+  if (!fs::exists(target)) {
+    return;
+  }
+  if (!fs::is_directory(target)) {
+    throw std::runtime_error(target.string() + ": output exists and is not a folder");
+  }
+  if (!fs::is_empty(target) && !overwrite) {
+    throw std::runtime_error(target.string() +
+                             ": output folder exists and is not empty; refusing to replace it "
+                             "unless overwrite is set");
+  }
+}
+
 void replaceFolder(const fs::path& staging, const fs::path& target, const std::string& suffix) {
   if (fs::exists(target)) {
     const fs::path previous =

@@ -95,21 +95,28 @@ Cloud readPcd(const std::filesystem::path& file) {
   return cloud;
 }
 
+std::string binaryPcdHeader(const std::string& fields, const std::string& sizes,
+                            const std::string& types, const std::string& counts,
+                            std::size_t points) {
+  return "# .PCD v0.7 - Point Cloud Data file format\n"
+         "VERSION 0.7\n"
+         "FIELDS " + fields + "\n"
+         "SIZE " + sizes + "\n"
+         "TYPE " + types + "\n"
+         "COUNT " + counts + "\n"
+         "WIDTH " + std::to_string(points) + "\n"
+         "HEIGHT 1\n"
+         "VIEWPOINT 0 0 0 1 0 0 0\n"
+         "POINTS " + std::to_string(points) + "\n"
+         "DATA binary\n";
+}
+
 void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud) {
   // Written by hand rather than with pcl::PCDWriter, which maps, locks and chmods every file:
   // with thousands of small object files those system calls took most of the stage's time.
   const std::size_t count = cloud.size();
-  std::string content = "# .PCD v0.7 - Point Cloud Data file format\n"
-                        "VERSION 0.7\n"
-                        "FIELDS x y z intensity timestamp\n"
-                        "SIZE 4 4 4 1 8\n"
-                        "TYPE F F F U F\n"
-                        "COUNT 1 1 1 1 1\n"
-                        "WIDTH " + std::to_string(count) + "\n"
-                        "HEIGHT 1\n"
-                        "VIEWPOINT 0 0 0 1 0 0 0\n"
-                        "POINTS " + std::to_string(count) + "\n"
-                        "DATA binary\n";
+  std::string content =
+      binaryPcdHeader("x y z intensity timestamp", "4 4 4 1 8", "F F F U F", "1 1 1 1 1", count);
   constexpr std::size_t kRecord = 3 * sizeof(float) + sizeof(std::uint8_t) + sizeof(double);
   std::size_t at = content.size();
   content.resize(at + count * kRecord);

@@ -304,16 +304,7 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
                              ": output folder is or holds the objects folder; refusing to "
                              "replace it");
   }
-  if (fs::exists(target)) {
-    if (!fs::is_directory(target)) {
-      throw std::runtime_error(target.string() + ": output exists and is not a folder");
-    }
-    if (!fs::is_empty(target) && !options.overwrite) {
-      throw std::runtime_error(target.string() +
-                               ": output folder exists and is not empty; refusing to replace it "
-                               "unless overwrite is set");
-    }
-  }
+  checkReplaceable(target, options.overwrite);
 
   std::map<std::string, ModelCloud> seeds;
   if (config.method == ConcatenationMethod::kIcp) {

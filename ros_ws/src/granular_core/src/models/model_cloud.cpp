@@ -28,17 +28,7 @@ ModelCloud readModelPcd(const std::filesystem::path& file) { return toModelCloud
 
 void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud) {
   const std::size_t count = cloud.size();
-  std::string content = "# .PCD v0.7 - Point Cloud Data file format\n"
-                        "VERSION 0.7\n"
-                        "FIELDS x y z\n"
-                        "SIZE 4 4 4\n"
-                        "TYPE F F F\n"
-                        "COUNT 1 1 1\n"
-                        "WIDTH " + std::to_string(count) + "\n"
-                        "HEIGHT 1\n"
-                        "VIEWPOINT 0 0 0 1 0 0 0\n"
-                        "POINTS " + std::to_string(count) + "\n"
-                        "DATA binary\n";
+  std::string content = binaryPcdHeader("x y z", "4 4 4", "F F F", "1 1 1", count);
   constexpr std::size_t kRecord = 3 * sizeof(float);
   std::size_t at = content.size();
   content.resize(at + count * kRecord);

@@ -34,6 +34,10 @@ class StagingFolder {
   bool released_ = false;
 };
 
+/// Throws std::runtime_error naming `target` when it exists and is not a folder, or is a folder
+/// that is not empty and `overwrite` is false: the check before a tool replaces its output.
+void checkReplaceable(const std::filesystem::path& target, bool overwrite);
+
 /// Puts the folder `staging` in place of `target`, which may exist; `target` is missing only
 /// between two renames (the old one goes to ".<target>.previous-<suffix>", then is removed).
 void replaceFolder(const std::filesystem::path& staging, const std::filesystem::path& target,

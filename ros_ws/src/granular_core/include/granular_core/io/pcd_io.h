@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <string>
 
 #include "granular_core/point_types.h"
 
@@ -11,6 +13,12 @@ namespace granular {
 /// when absent. Throws std::runtime_error naming the file when it cannot be read, has no x/y/z
 /// fields, or has a known field of another type.
 Cloud readPcd(const std::filesystem::path& file);
+
+/// The header of a binary, unorganised PCD file of `points` points whose FIELDS, SIZE, TYPE and
+/// COUNT lines carry the given values (e.g. "x y z", "4 4 4", "F F F", "1 1 1").
+std::string binaryPcdHeader(const std::string& fields, const std::string& sizes,
+                            const std::string& types, const std::string& counts,
+                            std::size_t points);
 
 /// Writes `cloud` as binary PCD under a temporary name in the same folder, then renames it to
 /// `file`, so that no reader ever sees a half-written file. Throws std::runtime_error naming the

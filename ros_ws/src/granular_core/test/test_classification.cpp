@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <pcl/common/transforms.h>
 #include <nlohmann/json.hpp>
 
 #include "granular_core/classification/classify_folder.h"
@@ -145,16 +146,33 @@ TEST_F(RegistrationTest, TheReportsSingleIterationNeverConverges) {
 }
 
 TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
+  // The views, and the same views turned about z by a few degrees, which NDT and ICP take
+  // several steps (and NDT's line search several trials) to undo.
+  std::vector<ModelCloud> objects = objects_;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    ModelCloud turned;
+    const Eigen::Affine3f turn(Eigen::AngleAxisf(0.03f * static_cast<float>(i % 4 + 1),
+                                                 Eigen::Vector3f::UnitZ()));
+    pcl::transformPointCloud(objects_[i], turned, turn);
+    objects.push_back(turned);
+  }
+  int several_steps = 0;
+  RegistrationClassifierConfig fine_ndt = converging();
+  fine_ndt.ndt.resolution = 0.2;
+  fine_ndt.ndt.transformation_epsilon = 1e-4;
   for (const RegistrationMethod method :
        {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
     for (const RegistrationClassifierConfig& config :
-         {RegistrationClassifierConfig(), converging()}) {
+         {RegistrationClassifierConfig(), converging(), fine_ndt}) {
+      if (method != RegistrationMethod::kNdt && config == fine_ndt) {
+        continue;
+      }
       const RegistrationClassifier classifier(method, config, models_);
       RegisterOptions options;
       options.threads = 2;
-      const auto fast = classifier.registerObjects(objects_, options);
-      const auto plain = classifier.registerObjectsPlain(objects_);
-      for (std::size_t i = 0; i < objects_.size(); ++i) {
+      const auto fast = classifier.registerObjects(objects, options);
+      const auto plain = classifier.registerObjectsPlain(objects);
+      for (std::size_t i = 0; i < objects.size(); ++i) {
         for (std::size_t m = 0; m < models_.size(); ++m) {
           EXPECT_EQ(fast[i][m].state, plain[i][m].state) << i << " " << m;
           EXPECT_EQ(fast[i][m].iterations, plain[i][m].iterations) << i << " " << m;
@@ -162,10 +180,12 @@ TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
           EXPECT_EQ(fast[i][m].fitness, plain[i][m].fitness)
               << registrationMethodName(method) << " object " << i << " model " << m;
           EXPECT_TRUE(fast[i][m].transform == plain[i][m].transform) << i << " " << m;
+          several_steps += fast[i][m].iterations > 2 ? 1 : 0;
         }
       }
     }
   }
+  EXPECT_GT(several_steps, 10);  // the comparison covers long alignments, not just one step
 }
 
 TEST_F(RegistrationTest, ObjectsTooSmallAreRecordedNotRegistered) {
@@ -263,6 +283,40 @@ TEST(NearestSearchTest, GridAndTreeFindTheExactNearestDistance) {
     }
   }
   EXPECT_GT(resolved, 2000);  // the grid settles most queries near the cloud
+}
+
+TEST(NearestSearchTest, APacketOfQueriesGetsEachQuerysExactDistance) {
+  std::mt19937 random(11);
+  const ModelCloud surface = boxSurface({4.5, 1.8, 1.5}, 3000, random);
+  std::vector<float> points;
+  for (const pcl::PointXYZ& p : surface.points) {
+    points.insert(points.end(), {p.x, p.y, p.z});
+  }
+  const NearestPoints tree(points.data(), surface.size());
+  constexpr int kPacket = NearestPoints::kPacket;
+  std::uniform_real_distribution<float> centre(-12.0f, 12.0f);
+  std::uniform_real_distribution<float> spread(-0.3f, 0.3f);
+  for (int packet = 0; packet < 500; ++packet) {
+    // Neighbouring queries, as a scan gives, and now and then one from elsewhere.
+    const float around[3] = {centre(random), centre(random), centre(random) / 4.0f};
+    float queries[kPacket][3];
+    float bounds[kPacket];
+    for (int lane = 0; lane < kPacket; ++lane) {
+      for (int axis = 0; axis < 3; ++axis) {
+        queries[lane][axis] = lane == 3 && packet % 5 == 0 ? centre(random)
+                                                           : around[axis] + spread(random);
+      }
+      const float choices[] = {std::numeric_limits<float>::infinity(), 0.01f, 4.0f, 60.0f};
+      bounds[lane] = choices[(packet + lane) % 4];
+    }
+    float distances[kPacket];
+    tree.nearestDistances(queries, bounds, distances);
+    for (int lane = 0; lane < kPacket; ++lane) {
+      // Bit for bit the nearest distance, or the bound when no point lies within it.
+      EXPECT_EQ(distances[lane], bruteNearest(points, queries[lane], bounds[lane]))
+          << packet << " " << lane;
+    }
+  }
 }
 
 // A models folder and an objects folder of the shapes of RegistrationTest, on disk.

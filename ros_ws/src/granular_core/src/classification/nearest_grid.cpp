@@ -64,6 +64,28 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
   for (std::size_t c = 0; c < cells; ++c) {
     cell_start_[c + 1] += cell_start_[c];
   }
+  // The cells within max_rings rings of a point: a query elsewhere cannot be settled here.
+  near_.assign(cells, 0);
+  for (int z = 0; z < size_[2]; ++z) {
+    for (int y = 0; y < size_[1]; ++y) {
+      for (int x = 0; x < size_[0]; ++x) {
+        const std::size_t cell = (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
+        if (cell_start_[cell] == cell_start_[cell + 1]) {
+          continue;
+        }
+        for (int nz = std::max(z - max_rings_, 0); nz <= std::min(z + max_rings_, size_[2] - 1);
+             ++nz) {
+          for (int ny = std::max(y - max_rings_, 0);
+               ny <= std::min(y + max_rings_, size_[1] - 1); ++ny) {
+            for (int nx = std::max(x - max_rings_, 0);
+                 nx <= std::min(x + max_rings_, size_[0] - 1); ++nx) {
+              near_[(static_cast<std::size_t>(nz) * size_[1] + ny) * size_[0] + nx] = 1;
+            }
+          }
+        }
+      }
+    }
+  }
   std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
   points_.resize(3 * count);
   indices_.resize(count);
@@ -71,6 +93,18 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
     const std::uint32_t slot = next[cell_of[i]]++;
     std::copy(&xyz[3 * i], &xyz[3 * i] + 3, &points_[3 * slot]);
     indices_[slot] = static_cast<std::uint32_t>(i);
+  }
+}
+
+void NearestGrid::scan(std::size_t cell, const float query[3], Result& result) const {
+  for (std::uint32_t p = cell_start_[cell]; p < cell_start_[cell + 1]; ++p) {
+    const float distance = flannSquaredDistance(query, &points_[3 * p]);
+    if (distance < result.distance ||
+        (distance == result.distance && result.found && indices_[p] < result.index)) {
+      result.distance = distance;
+      result.index = indices_[p];
+      result.found = true;
+    }
   }
 }
 
@@ -84,13 +118,65 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
   // The query's cell, which may lie outside the grid, and how far the query is inside it.
   int centre[3];
   float margin = std::numeric_limits<float>::infinity();
+  bool inside = true;
   for (int axis = 0; axis < 3; ++axis) {
     const float offset = (query[axis] - origin_[axis]) / cell_;
     const float floor = std::floor(offset);
     centre[axis] = static_cast<int>(std::clamp(floor, -1.0e6f, 1.0e6f));
     margin = std::min({margin, (offset - floor) * cell_, (floor + 1.0f - offset) * cell_});
+    inside = inside && centre[axis] >= 0 && centre[axis] < size_[axis];
   }
-  for (int ring = 0; ring <= max_rings_; ++ring) {
+  const auto cellIndex = [this](int x, int y, int z) {
+    return (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
+  };
+  bool beyond_rings = inside && near_[cellIndex(centre[0], centre[1], centre[2])] == 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    beyond_rings = beyond_rings || centre[axis] < -max_rings_ ||
+                   centre[axis] >= size_[axis] + max_rings_;
+  }
+  if (beyond_rings) {
+    // Every point lies more than max_rings cells away along some axis.
+    const float reach = (margin + static_cast<float>(max_rings_) * cell_) * 0.9999f;
+    result.resolved = bound <= reach * reach;
+    return result;
+  }
+  if (inside) {
+    scan(cellIndex(centre[0], centre[1], centre[2]), query, result);
+  }
+  // Every point of another cell lies at least `margin` away (less a margin for the rounding
+  // of the cell coordinates).
+  const float own_reach = margin * 0.9999f;
+  if (result.distance <= own_reach * own_reach) {
+    result.resolved = true;
+    return result;
+  }
+  // A point nearer than the best so far lies in a cell that the ball of that radius overlaps
+  // (widened by 0.1 mm for the rounding of cell coordinates): when the ball stays within the
+  // rings, those cells and no others settle the query. Most queries near the model end here.
+  const float reach = std::sqrt(result.distance) * 1.0001f + 1.0e-4f;
+  if (reach <= static_cast<float>(max_rings_) * cell_) {
+    int low[3], high[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::max(
+          0, static_cast<int>(std::floor((query[axis] - reach - origin_[axis]) / cell_)));
+      high[axis] = std::min(
+          size_[axis] - 1,
+          static_cast<int>(std::floor((query[axis] + reach - origin_[axis]) / cell_)));
+    }
+    for (int z = low[2]; z <= high[2]; ++z) {
+      for (int y = low[1]; y <= high[1]; ++y) {
+        for (int x = low[0]; x <= high[0]; ++x) {
+          if (!(inside && x == centre[0] && y == centre[1] && z == centre[2])) {
+            scan(cellIndex(x, y, z), query, result);
+          }
+        }
+      }
+    }
+    result.resolved = true;
+    return result;
+  }
+  // Otherwise ring by ring, nearest first, until the best seen is nearer than any unseen cell.
+  for (int ring = 1; ring <= max_rings_; ++ring) {
     const int z_low = std::max(centre[2] - ring, 0);
     const int z_high = std::min(centre[2] + ring, size_[2] - 1);
     const int y_low = std::max(centre[1] - ring, 0);
@@ -99,29 +185,16 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
       for (int y = y_low; y <= y_high; ++y) {
         // Inside the ring's shell only its two x faces, unless y or z is on the shell.
         const bool shell = std::abs(z - centre[2]) == ring || std::abs(y - centre[1]) == ring;
-        const int step = shell ? 1 : std::max(2 * ring, 1);
+        const int step = shell ? 1 : 2 * ring;
         for (int x = centre[0] - ring; x <= centre[0] + ring; x += step) {
-          if (x < 0 || x >= size_[0]) {
-            continue;
-          }
-          const std::size_t cell =
-              (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
-          for (std::uint32_t p = cell_start_[cell]; p < cell_start_[cell + 1]; ++p) {
-            const float distance = flannSquaredDistance(query, &points_[3 * p]);
-            if (distance < result.distance ||
-                (distance == result.distance && result.found && indices_[p] < result.index)) {
-              result.distance = distance;
-              result.index = indices_[p];
-              result.found = true;
-            }
+          if (x >= 0 && x < size_[0]) {
+            scan(cellIndex(x, y, z), query, result);
           }
         }
       }
     }
-    // Every point not yet seen lies at least this far from the query (less a margin for the
-    // rounding of the cell coordinates).
-    const float reach = (margin + static_cast<float>(ring) * cell_) * 0.9999f;
-    if (result.distance <= reach * reach) {
+    const float ring_reach = (margin + static_cast<float>(ring) * cell_) * 0.9999f;
+    if (result.distance <= ring_reach * ring_reach) {
       result.resolved = true;
       return result;
     }

@@ -17,6 +17,7 @@
 #include <pcl/registration/ndt.h>
 #include <pcl/search/kdtree.h>
 
+#include "granular_core/classification/ndt_matcher.h"
 #include "granular_core/classification/nearest_grid.h"
 #include "granular_core/classification/nearest_points.h"
 
@@ -29,16 +30,16 @@ using CloudConstPtr = ModelCloud::ConstPtr;
 using Criteria = pcl::registration::DefaultConvergenceCriteria<float>;
 
 // The model search structure of the cached path, shared read-only by all threads. It answers
-// the single-neighbour queries of ICP and the fitness score from a NearestGrid of the model
-// and, for the queries its rings cannot settle (points far from the model), from a
-// NearestPoints kd-tree. Every distance is the one PCL's KdTreeFLANN gives, bit for bit,
-// without its cost per query: PCL allocates and enters an OpenMP parallel region (FLANN's
+// ICP's single-neighbour queries from a NearestGrid of the model and, for the queries its
+// rings cannot settle, from a NearestPoints kd-tree; and the fitness score from the kd-tree,
+// four object points at a time. Every distance is the one PCL's KdTreeFLANN gives, bit for
+// bit, without its cost per query: PCL allocates and enters an OpenMP parallel region (FLANN's
 // knnSearch) for each point, which for these small objects costs more than the search. Two
 // searches are also bounded, without changing their answers:
 //  - ICP's correspondence estimation discards a nearest point beyond the maximum
 //    correspondence distance, so a search needs to look no farther (setCorrespondenceBound);
-//  - fitness() starts each point's search from the distance to the nearest model point of the
-//    previous object point: neighbouring scan points have neighbouring nearest points.
+//  - fitness() bounds each point's search by the previous point's distance plus the step
+//    between the two points: neighbouring scan points have neighbouring nearest points.
 class NearestTree : public pcl::search::KdTree<Point> {
  public:
   using Ptr = std::shared_ptr<NearestTree>;
@@ -67,7 +68,6 @@ class NearestTree : public pcl::search::KdTree<Point> {
     }
     grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings);
     tree_ = std::make_unique<NearestPoints>(points_.data(), mapping_.size());
-    far_distance_ = kGridRings * grid_->cellSize() * kGridRings * grid_->cellSize();
   }
 
   // Single-neighbour queries beyond `max_distance` (m) then report no neighbour (an infinite
@@ -98,49 +98,44 @@ class NearestTree : public pcl::search::KdTree<Point> {
 
   // What PCL's Registration::getFitnessScore() gives for `source` aligned by `transform` on
   // this model: the mean squared distance of each transformed point to its nearest model point.
+  // Most points of most pairs lie far from the model (the wrong classes), where the grid's rings
+  // cannot settle them: all go to the kd-tree, kPacket neighbours in the scan at a time.
   double fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const {
-    if (mapping_.empty()) {
+    if (mapping_.empty() || source.empty()) {
       return std::numeric_limits<double>::max();
     }
     ModelCloud moved;
     pcl::transformPointCloud(source, moved, transform);
-    double sum = 0.0;
-    int count = 0;
-    const float* previous = nullptr;  // the nearest model point of the previous object point
-    bool far = false;
-    for (const Point& point : moved) {
-      const float query[3] = {point.x, point.y, point.z};
-      // This point's nearest model point is at most as far as the previous one's; the margin
-      // covers the rounding of the two distances.
-      float bound = std::numeric_limits<float>::infinity();
-      if (previous != nullptr) {
-        bound = 0.0f;
-        for (int axis = 0; axis < 3; ++axis) {
-          const float step = query[axis] - previous[axis];
-          bound += step * step;
+    constexpr int kPacket = NearestPoints::kPacket;
+    std::vector<float> distances(moved.size());
+    for (std::size_t first = 0; first < moved.size(); first += kPacket) {
+      float queries[kPacket][3];
+      float bounds[kPacket];
+      for (int lane = 0; lane < kPacket; ++lane) {
+        // The last packet is filled up with its last point again.
+        const pcl::PointXYZ& point = moved[std::min(first + lane, moved.size() - 1)];
+        std::copy(point.data, point.data + 3, queries[lane]);
+        bounds[lane] = std::numeric_limits<float>::infinity();
+        if (first > 0) {
+          // No farther than the previous point's nearest model point: at most the previous
+          // distance plus the step between the two points (widened for rounding).
+          const pcl::PointXYZ& previous = moved[first - 1];
+          const double step = std::sqrt(static_cast<double>(
+              flannSquaredDistance(queries[lane], previous.data)));
+          const double reach = std::sqrt(static_cast<double>(distances[first - 1])) + step;
+          bounds[lane] = static_cast<float>(reach * reach * (1.0 + 1.0e-5) + 1.0e-30);
         }
-        bound = bound * 1.001f + std::numeric_limits<float>::min();
       }
-      // A point whose predecessor lay beyond the grid's rings most likely does too: straight
-      // to the kd-tree.
-      NearestGrid::Result nearest;
-      if (far) {
-        const NearestPoints::Result exact = tree_->nearest(query, bound);
-        nearest.found = exact.found;
-        nearest.index = exact.index;
-        nearest.distance = exact.distance;
-      } else {
-        nearest = nearestWithin(query, bound);
-      }
-      if (!nearest.found) {  // not reached; a search without a bound all the same
-        nearest = nearestWithin(query, std::numeric_limits<float>::infinity());
-      }
-      far = nearest.distance > far_distance_;
-      sum += nearest.distance;
-      ++count;
-      previous = &points_[3 * nearest.index];
+      float nearest[kPacket];
+      tree_->nearestDistances(queries, bounds, nearest);
+      std::copy(nearest, nearest + std::min<std::size_t>(kPacket, moved.size() - first),
+                distances.begin() + static_cast<std::ptrdiff_t>(first));
     }
-    return count > 0 ? sum / count : std::numeric_limits<double>::max();
+    double sum = 0.0;
+    for (const float distance : distances) {
+      sum += distance;
+    }
+    return sum / static_cast<double>(distances.size());
   }
 
  private:
@@ -170,7 +165,6 @@ class NearestTree : public pcl::search::KdTree<Point> {
   std::unique_ptr<NearestGrid> grid_;
   std::unique_ptr<NearestPoints> tree_;
   float correspondence_bound_ = std::numeric_limits<float>::infinity();
-  float far_distance_ = 0.0f;  ///< squared; nearer than this the grid always settles a query
 };
 
 // ICP and ICP-NL with the two things PCL keeps protected that a reused object needs.
@@ -190,11 +184,7 @@ class ReusableIcp : public Base {
 using Icp = ReusableIcp<pcl::IterativeClosestPoint<Point, Point>>;
 using IcpNl = ReusableIcp<pcl::IterativeClosestPointNonLinear<Point, Point>>;
 
-// NDT with the number of cells of its target, which PCL keeps protected.
-class Ndt : public pcl::NormalDistributionsTransform<Point, Point> {
- public:
-  std::size_t cells() { return target_cells_.getCentroids()->size(); }
-};
+using Ndt = pcl::NormalDistributionsTransform<Point, Point>;
 
 template <typename Registration>
 void configure(Registration& icp, const IcpClassifierConfig& config) {
@@ -256,23 +246,43 @@ PairResult alignIcp(Registration& icp, const CloudConstPtr& source, ModelCloud& 
   return result;
 }
 
+// An NDT alignment's state from what PCL's NDT reports.
+RegistrationState ndtState(double likelihood, bool converged, int iterations,
+                           int max_iterations) {
+  if (likelihood == 0.0) {
+    return RegistrationState::kNoCorrespondences;  // no object point near any model cell
+  }
+  if (!converged) {
+    return RegistrationState::kFailed;
+  }
+  return iterations >= max_iterations ? RegistrationState::kIterations
+                                      : RegistrationState::kTransform;
+}
+
+// The report's NDT: PCL's, with its own fitness score.
 PairResult alignNdt(Ndt& ndt, const CloudConstPtr& source, ModelCloud& aligned,
-                    int max_iterations, const NearestTree* tree) {
+                    int max_iterations) {
   ndt.setInputSource(source);
   ndt.align(aligned);
   PairResult result;
   result.iterations = ndt.getFinalNumIteration();
-  if (ndt.getTransformationLikelihood() == 0.0) {
-    result.state = RegistrationState::kNoCorrespondences;
-  } else if (!ndt.hasConverged()) {
-    result.state = RegistrationState::kFailed;
-  } else if (result.iterations >= max_iterations) {
-    result.state = RegistrationState::kIterations;
-  } else {
-    result.state = RegistrationState::kTransform;
-  }
+  result.state = ndtState(ndt.getTransformationLikelihood(), ndt.hasConverged(),
+                          result.iterations, max_iterations);
   result.transform = ndt.getFinalTransformation();
-  result.fitness = fitnessOf(ndt, tree);
+  result.fitness = ndt.getFitnessScore();
+  return result;
+}
+
+// The same alignment through the model's NdtMatcher, the fitness from its NearestTree.
+PairResult alignNdt(const NdtMatcher& ndt, const ModelCloud& source, int max_iterations,
+                    const NearestTree& tree) {
+  const NdtMatcher::Result aligned = ndt.align(source);
+  PairResult result;
+  result.iterations = aligned.iterations;
+  result.state =
+      ndtState(aligned.likelihood, aligned.converged, aligned.iterations, max_iterations);
+  result.transform = aligned.transform;
+  result.fitness = tree.fitness(source, aligned.transform);
   return result;
 }
 
@@ -306,7 +316,7 @@ struct RegistrationClassifier::Impl {
   std::vector<std::string> labels;
   std::vector<CloudConstPtr> models;
   std::vector<NearestTree::Ptr> trees;  // built once, shared read-only by every thread
-  std::vector<std::shared_ptr<const Ndt>> ndt_prototypes;  // voxel grids built once
+  std::vector<std::unique_ptr<const NdtMatcher>> ndt_matchers;  // cells built once, shared
   std::vector<std::string> warnings;
 
   const IcpClassifierConfig& icpConfig() const {
@@ -326,14 +336,7 @@ struct RegistrationClassifier::Impl {
             icp_nl_.push_back(prepared<IcpNl>(m));
             break;
           case RegistrationMethod::kNdt:
-            // A copy keeps the prototype's voxel grid (its cells, and its kd-tree's index,
-            // which copies share). What the copy would share with the prototype and write to,
-            // the correspondence estimator, it gets a new one of.
-            ndt_.push_back(std::make_unique<Ndt>(*impl.ndt_prototypes[m]));
-            ndt_.back()->setCorrespondenceEstimation(
-                pcl::registration::CorrespondenceEstimation<Point, Point>::Ptr(
-                    new pcl::registration::CorrespondenceEstimation<Point, Point>));
-            break;
+            break;  // the NdtMatchers are const and shared
         }
       }
     }
@@ -352,8 +355,8 @@ struct RegistrationClassifier::Impl {
               results[m] = alignIcp(*icp_nl_[m], source, aligned_, impl_.trees[m].get());
               break;
             case RegistrationMethod::kNdt:
-              results[m] = alignNdt(*ndt_[m], source, aligned_, impl_.config.ndt.max_iterations,
-                                    impl_.trees[m].get());
+              results[m] = alignNdt(*impl_.ndt_matchers[m], *source,
+                                    impl_.config.ndt.max_iterations, *impl_.trees[m]);
               break;
           }
         } catch (const std::exception&) {
@@ -377,7 +380,6 @@ struct RegistrationClassifier::Impl {
     const Impl& impl_;
     std::vector<std::unique_ptr<Icp>> icp_;
     std::vector<std::unique_ptr<IcpNl>> icp_nl_;
-    std::vector<std::unique_ptr<Ndt>> ndt_;
     ModelCloud aligned_;
   };
 
@@ -402,7 +404,7 @@ struct RegistrationClassifier::Impl {
           Ndt ndt;
           configure(ndt, config.ndt);
           ndt.setInputTarget(models[m]);
-          return alignNdt(ndt, source, aligned, config.ndt.max_iterations, nullptr);
+          return alignNdt(ndt, source, aligned, config.ndt.max_iterations);
         }
       }
     } catch (const std::exception&) {
@@ -448,10 +450,7 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
     impl_->trees.push_back(tree);
 
     if (method == RegistrationMethod::kNdt) {
-      auto ndt = std::make_shared<Ndt>();
-      configure(*ndt, config.ndt);
-      ndt->setInputTarget(cloud);
-      ndt->setSearchMethodTarget(tree, true);
+      auto ndt = std::make_unique<const NdtMatcher>(*cloud, config.ndt);
       if (ndt->cells() == 0) {
         // PCL's NDT then returns at once without aligning; the pairs record that as
         // no_correspondences, with the fitness of the object where it is.
@@ -462,7 +461,7 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
             "', so it has no cell to match and no object is aligned to it "
             "(no_correspondences); a coarser ndt.resolution gives it cells");
       }
-      impl_->ndt_prototypes.push_back(std::move(ndt));
+      impl_->ndt_matchers.push_back(std::move(ndt));
     }
   }
 }

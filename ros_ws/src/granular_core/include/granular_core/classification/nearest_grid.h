@@ -8,10 +8,11 @@
 namespace granular {
 
 /// Exact nearest-point queries near a fixed cloud through a uniform grid of cells: a query
-/// looks at the rings of cells around its own, nearest first, and stops as soon as no point
-/// beyond the rings can be nearer. Most queries of a registration land on or near the model,
-/// where one or two rings answer them; a query that the rings cannot settle says so, and the
-/// caller asks a kd-tree.
+/// looks at its own cell, then at the cells that the ball of the best distance so far (or of
+/// the bound) overlaps, or, with no such ball, at the rings of cells around its own, nearest
+/// first, and stops as soon as no point beyond can be nearer. Most queries of a registration
+/// land on or near the model, where a few cells answer them; a query that the rings cannot
+/// settle says so, and the caller asks a kd-tree.
 ///
 /// Squared distances are computed in float as FLANN's L2_Simple does,
 /// ((0 + dx*dx) + dy*dy) + dz*dz, so a distance found here is the one PCL's KdTreeFLANN gives
@@ -40,11 +41,15 @@ class NearestGrid {
   float cellSize() const { return cell_; }
 
  private:
+  // Offers the points of one cell to `result`.
+  void scan(std::size_t cell, const float query[3], Result& result) const;
+
   float origin_[3] = {0.0f, 0.0f, 0.0f};
   float cell_ = 1.0f;
   int size_[3] = {0, 0, 0};
   int max_rings_;
   std::vector<std::uint32_t> cell_start_;  ///< points of cell c: [cell_start_[c], [c + 1])
+  std::vector<std::uint8_t> near_;         ///< 1 for a cell within max_rings_ of a point
   std::vector<float> points_;              ///< x y z per point, cell by cell
   std::vector<std::uint32_t> indices_;     ///< index into the given cloud, per point
 };

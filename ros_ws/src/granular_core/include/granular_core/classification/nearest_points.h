@@ -45,6 +45,15 @@ class NearestPoints {
   Result nearest(const float query[3],
                  float bound = std::numeric_limits<float>::infinity()) const;
 
+  /// The squared distances of kPacket queries (x y z each) to their nearest points, each
+  /// capped by its bound: min(bound, nearest distance), so exact for a bound at or above the
+  /// nearest distance. One walk of the tree serves all the queries, and a leaf's points are
+  /// measured four at a time. Queries close to one another, as consecutive points of a scan
+  /// are, share most of their walk.
+  static constexpr int kPacket = 4;
+  void nearestDistances(const float queries[kPacket][3], const float bounds[kPacket],
+                        float distances[kPacket]) const;
+
  private:
   struct Node {
     float low[3];
@@ -52,12 +61,15 @@ class NearestPoints {
     std::uint32_t begin;        ///< points of a leaf: [begin, end)
     std::uint32_t end;
     std::int32_t first_child;   ///< -1 for a leaf; the second child follows the first
+    std::uint32_t packed;       ///< a leaf's points in xs_, ys_, zs_: [packed, packed + 4k)
   };
 
   // Fills nodes_[node] with the points [begin, end), splitting it while it is large.
   void build(std::size_t node, std::uint32_t begin, std::uint32_t end, int depth);
 
   std::vector<float> points_;          ///< x y z per point, in tree order
+  // The points again, axis by axis, each leaf padded to a multiple of four with far points.
+  std::vector<float> xs_, ys_, zs_;
   std::vector<std::uint32_t> indices_; ///< index into the given cloud, per point
   std::vector<Node> nodes_;            ///< nodes_[0] is the root
   int depth_ = 0;                      ///< of the deepest leaf

@@ -1,0 +1,481 @@
+// PCL 1.13's NDT, pcl/registration/impl/ndt.hpp, restructured for speed and kept to its
+// arithmetic: where PCL evaluates an expression, this file evaluates the same Eigen expression
+// on the same types, so that the results agree bit for bit (test_classification checks).
+#include "granular_core/classification/ndt_matcher.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <pcl/common/transforms.h>
+#include <pcl/filters/voxel_grid_covariance.h>
+#include <pcl/registration/ndt.h>
+
+#include "granular_core/classification/nearest_points.h"
+
+namespace granular {
+namespace {
+
+using Point = pcl::PointXYZ;
+
+// PCL's voxel cells with the map from centroid (FLANN index) to cell, which PCL keeps protected.
+class ModelCells : public pcl::VoxelGridCovariance<Point> {
+ public:
+  const std::vector<int>& centroidLeaves() const { return voxel_centroids_leaf_indices_; }
+};
+
+// The More-Thuente interval update and trial-step selection of PCL's NDT, stateless helpers
+// that PCL keeps protected.
+class MoreThuente : public pcl::NormalDistributionsTransform<Point, Point> {
+ public:
+  using pcl::NormalDistributionsTransform<Point, Point>::auxilaryFunction_dPsiMT;
+  using pcl::NormalDistributionsTransform<Point, Point>::auxilaryFunction_PsiMT;
+  using pcl::NormalDistributionsTransform<Point, Point>::trialValueSelectionMT;
+  using pcl::NormalDistributionsTransform<Point, Point>::updateIntervalMT;
+
+  static const MoreThuente& instance() {
+    static const MoreThuente helpers;
+    return helpers;
+  }
+};
+
+// Buckets in the centroid grid at most; a larger model gets larger buckets.
+constexpr double kMaxBuckets = 8.0e6;
+
+// pcl::NormalDistributionsTransform::convertTransform().
+Eigen::Matrix4f matrixOf(const Eigen::Matrix<double, 6, 1>& x) {
+  const Eigen::Transform<float, 3, Eigen::Affine> affine =
+      Eigen::Translation<float, 3>(x.head<3>().cast<float>()) *
+      Eigen::AngleAxis<float>(static_cast<float>(x(3)), Eigen::Vector3f::UnitX()) *
+      Eigen::AngleAxis<float>(static_cast<float>(x(4)), Eigen::Vector3f::UnitY()) *
+      Eigen::AngleAxis<float>(static_cast<float>(x(5)), Eigen::Vector3f::UnitZ());
+  return affine.matrix();
+}
+
+}  // namespace
+
+// One alignment's scratch: the angular and point derivatives (PCL's members of those names)
+// and the neighbour lists.
+struct NdtMatcher::Pass {
+  Eigen::Matrix<double, 8, 4> angular_jacobian;
+  Eigen::Matrix<double, 15, 4> angular_hessian;
+  Eigen::Matrix<double, 3, 6> point_jacobian;
+  Eigen::Matrix<double, 18, 6> point_hessian;
+  std::vector<std::uint32_t> cells;
+  std::vector<float> distances;
+
+  Pass() {
+    point_jacobian.setZero();
+    point_jacobian.block<3, 3>(0, 0).setIdentity();
+    point_hessian.setZero();
+  }
+
+  // computeAngleDerivatives(transform), with the Hessian's terms as PCL always computes them.
+  void angleDerivatives(const Eigen::Matrix<double, 6, 1>& transform) {
+    const auto cos_sin = [](double angle, double& c, double& s) {
+      if (std::abs(angle) < 10e-5) {
+        c = 1.0;
+        s = 0.0;
+      } else {
+        c = std::cos(angle);
+        s = std::sin(angle);
+      }
+    };
+    double cx, cy, cz, sx, sy, sz;
+    cos_sin(transform(3), cx, sx);
+    cos_sin(transform(4), cy, sy);
+    cos_sin(transform(5), cz, sz);
+
+    angular_jacobian.setZero();
+    angular_jacobian.row(0).noalias() =
+        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-sx * cz - cx * sy * sz), (-cx * cy), 1.0);
+    angular_jacobian.row(1).noalias() =
+        Eigen::Vector4d((cx * sz + sx * sy * cz), (cx * cz - sx * sy * sz), (-sx * cy), 1.0);
+    angular_jacobian.row(2).noalias() = Eigen::Vector4d((-sy * cz), sy * sz, cy, 1.0);
+    angular_jacobian.row(3).noalias() =
+        Eigen::Vector4d(sx * cy * cz, (-sx * cy * sz), sx * sy, 1.0);
+    angular_jacobian.row(4).noalias() =
+        Eigen::Vector4d((-cx * cy * cz), cx * cy * sz, (-cx * sy), 1.0);
+    angular_jacobian.row(5).noalias() = Eigen::Vector4d((-cy * sz), (-cy * cz), 0, 1.0);
+    angular_jacobian.row(6).noalias() =
+        Eigen::Vector4d((cx * cz - sx * sy * sz), (-cx * sz - sx * sy * cz), 0, 1.0);
+    angular_jacobian.row(7).noalias() =
+        Eigen::Vector4d((sx * cz + cx * sy * sz), (cx * sy * cz - sx * sz), 0, 1.0);
+
+    angular_hessian.setZero();
+    angular_hessian.row(0).noalias() =
+        Eigen::Vector4d((-cx * sz - sx * sy * cz), (-cx * cz + sx * sy * sz), sx * cy, 0.0f);
+    angular_hessian.row(1).noalias() =
+        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-cx * sy * sz - sx * cz), (-cx * cy), 0.0f);
+    angular_hessian.row(2).noalias() =
+        Eigen::Vector4d((cx * cy * cz), (-cx * cy * sz), (cx * sy), 0.0f);
+    angular_hessian.row(3).noalias() =
+        Eigen::Vector4d((sx * cy * cz), (-sx * cy * sz), (sx * sy), 0.0f);
+    angular_hessian.row(4).noalias() =
+        Eigen::Vector4d((-sx * cz - cx * sy * sz), (sx * sz - cx * sy * cz), 0, 0.0f);
+    angular_hessian.row(5).noalias() =
+        Eigen::Vector4d((cx * cz - sx * sy * sz), (-sx * sy * cz - cx * sz), 0, 0.0f);
+    angular_hessian.row(6).noalias() = Eigen::Vector4d((-cy * cz), (cy * sz), (-sy), 0.0f);
+    angular_hessian.row(7).noalias() =
+        Eigen::Vector4d((-sx * sy * cz), (sx * sy * sz), (sx * cy), 0.0f);
+    angular_hessian.row(8).noalias() =
+        Eigen::Vector4d((cx * sy * cz), (-cx * sy * sz), (-cx * cy), 0.0f);
+    angular_hessian.row(9).noalias() = Eigen::Vector4d((sy * sz), (sy * cz), 0, 0.0f);
+    angular_hessian.row(10).noalias() = Eigen::Vector4d((-sx * cy * sz), (-sx * cy * cz), 0, 0.0f);
+    angular_hessian.row(11).noalias() = Eigen::Vector4d((cx * cy * sz), (cx * cy * cz), 0, 0.0f);
+    angular_hessian.row(12).noalias() = Eigen::Vector4d((-cy * cz), (cy * sz), 0, 0.0f);
+    angular_hessian.row(13).noalias() =
+        Eigen::Vector4d((-cx * sz - sx * sy * cz), (-cx * cz + sx * sy * sz), 0, 0.0f);
+    angular_hessian.row(14).noalias() =
+        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-cx * sy * sz - sx * cz), 0, 0.0f);
+  }
+
+  // computePointDerivatives(x): once per point here, where PCL repeats it for every cell.
+  void pointDerivatives(const Eigen::Vector3d& x) {
+    const Eigen::Matrix<double, 8, 1> point_angular_jacobian =
+        angular_jacobian * Eigen::Vector4d(x[0], x[1], x[2], 0.0);
+    point_jacobian(1, 3) = point_angular_jacobian[0];
+    point_jacobian(2, 3) = point_angular_jacobian[1];
+    point_jacobian(0, 4) = point_angular_jacobian[2];
+    point_jacobian(1, 4) = point_angular_jacobian[3];
+    point_jacobian(2, 4) = point_angular_jacobian[4];
+    point_jacobian(0, 5) = point_angular_jacobian[5];
+    point_jacobian(1, 5) = point_angular_jacobian[6];
+    point_jacobian(2, 5) = point_angular_jacobian[7];
+
+    const Eigen::Matrix<double, 15, 1> point_angular_hessian =
+        angular_hessian * Eigen::Vector4d(x[0], x[1], x[2], 0.0);
+    const Eigen::Vector3d a(0, point_angular_hessian[0], point_angular_hessian[1]);
+    const Eigen::Vector3d b(0, point_angular_hessian[2], point_angular_hessian[3]);
+    const Eigen::Vector3d c(0, point_angular_hessian[4], point_angular_hessian[5]);
+    const Eigen::Vector3d d = point_angular_hessian.block<3, 1>(6, 0);
+    const Eigen::Vector3d e = point_angular_hessian.block<3, 1>(9, 0);
+    const Eigen::Vector3d f = point_angular_hessian.block<3, 1>(12, 0);
+    point_hessian.block<3, 1>(9, 3) = a;
+    point_hessian.block<3, 1>(12, 3) = b;
+    point_hessian.block<3, 1>(15, 3) = c;
+    point_hessian.block<3, 1>(9, 4) = b;
+    point_hessian.block<3, 1>(12, 4) = d;
+    point_hessian.block<3, 1>(15, 4) = e;
+    point_hessian.block<3, 1>(9, 5) = c;
+    point_hessian.block<3, 1>(12, 5) = e;
+    point_hessian.block<3, 1>(15, 5) = f;
+  }
+};
+
+NdtMatcher::NdtMatcher(const ModelCloud& model, const NdtClassifierConfig& config)
+    : config_(config) {
+  // NormalDistributionsTransform's constants (eq. 6.8) and its target_cells_, as
+  // setMinPointPerVoxel, setResolution and setInputTarget leave them.
+  const float resolution = static_cast<float>(config.resolution);
+  const double gauss_c1 = 10 * (1 - config.outlier_ratio);
+  const double gauss_c2 = config.outlier_ratio / std::pow(resolution, 3);
+  const double gauss_d3 = -std::log(gauss_c2);
+  gauss_d1_ = -std::log(gauss_c1 + gauss_c2) - gauss_d3;
+  gauss_d2_ = -2 * std::log((-std::log(gauss_c1 * std::exp(-0.5) + gauss_c2) - gauss_d3) /
+                            gauss_d1_);
+  radius_squared_ = static_cast<float>(static_cast<double>(resolution) * resolution);
+
+  ModelCells cells;
+  cells.setMinPointPerVoxel(config.min_points_per_voxel);
+  cells.setLeafSize(resolution, resolution, resolution);
+  cells.setInputCloud(model.makeShared());
+  cells.filter(true);
+  const ModelCloud& centroids = *cells.getCentroids();
+  if (centroids.empty()) {
+    return;
+  }
+  for (std::size_t i = 0; i < centroids.size(); ++i) {
+    const auto leaf = cells.getLeaves().find(
+        static_cast<std::size_t>(cells.centroidLeaves()[i]));
+    means_.push_back(leaf->second.getMean());
+    inverse_covariances_.push_back(leaf->second.getInverseCov());
+  }
+
+  // The bucket grid: a bucket a little wider than the radius, so that a centroid within the
+  // radius of a point is never two buckets away, whatever the rounding, and one bucket more
+  // on every side, so that a point beyond the grid has no cell near. Each bucket lists the
+  // cells of the 27 buckets around it, with their centroids, for one look-up per point.
+  float low[3], high[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = high[axis] = centroids[0].data[axis];
+  }
+  for (const Point& centroid : centroids) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::min(low[axis], centroid.data[axis]);
+      high[axis] = std::max(high[axis], centroid.data[axis]);
+    }
+  }
+  double bucket = 1.01 * resolution;
+  double volume = 1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    volume *= static_cast<double>(high[axis] - low[axis]) + 3.0 * bucket;
+  }
+  bucket = std::max(bucket, std::cbrt(volume / kMaxBuckets));
+  bucket_ = static_cast<float>(bucket);
+  for (int axis = 0; axis < 3; ++axis) {
+    origin_[axis] = low[axis] - bucket_;
+    size_[axis] = static_cast<int>((high[axis] - low[axis]) / bucket_) + 3;
+  }
+  const std::size_t buckets = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
+  std::vector<std::array<int, 3>> bucket_of(means_.size());
+  for (std::size_t i = 0; i < means_.size(); ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      bucket_of[i][axis] = std::clamp(
+          static_cast<int>((centroids[i].data[axis] - origin_[axis]) / bucket_), 1,
+          size_[axis] - 2);
+    }
+  }
+  const auto forEachNeighbour = [&](const std::array<int, 3>& centre, const auto& visit) {
+    for (int z = centre[2] - 1; z <= centre[2] + 1; ++z) {
+      for (int y = centre[1] - 1; y <= centre[1] + 1; ++y) {
+        for (int x = centre[0] - 1; x <= centre[0] + 1; ++x) {
+          visit((static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x);
+        }
+      }
+    }
+  };
+  bucket_start_.assign(buckets + 1, 0);
+  for (std::size_t i = 0; i < means_.size(); ++i) {
+    forEachNeighbour(bucket_of[i], [&](std::size_t b) { ++bucket_start_[b + 1]; });
+  }
+  for (std::size_t b = 0; b < buckets; ++b) {
+    bucket_start_[b + 1] += bucket_start_[b];
+  }
+  std::vector<std::uint32_t> next(bucket_start_.begin(), bucket_start_.end() - 1);
+  candidates_.resize(bucket_start_.back());
+  for (std::size_t i = 0; i < means_.size(); ++i) {
+    const Candidate candidate{{centroids[i].x, centroids[i].y, centroids[i].z},
+                              static_cast<std::uint32_t>(i)};
+    forEachNeighbour(bucket_of[i], [&](std::size_t b) { candidates_[next[b]++] = candidate; });
+  }
+}
+
+void NdtMatcher::neighbours(const Point& point, std::vector<std::uint32_t>& found,
+                            std::vector<float>& distances) const {
+  found.clear();
+  distances.clear();
+  std::size_t bucket = 0;
+  for (int axis = 2; axis >= 0; --axis) {
+    const float offset = std::floor((point.data[axis] - origin_[axis]) / bucket_);
+    if (!(offset >= 0.0f && offset < static_cast<float>(size_[axis]))) {
+      return;  // beyond the grid (or not finite): no cell is near
+    }
+    bucket = bucket * static_cast<std::size_t>(size_[axis]) + static_cast<std::size_t>(offset);
+  }
+  for (std::uint32_t k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
+    // FLANN's test: the squared distance strictly below the squared radius.
+    const float distance = flannSquaredDistance(candidates_[k].centroid, point.data);
+    if (distance < radius_squared_) {
+      found.push_back(candidates_[k].cell);
+      distances.push_back(distance);
+    }
+  }
+  // FLANN's sorted order: by distance, then by index. The lists are short.
+  for (std::size_t i = 1; i < found.size(); ++i) {
+    const std::uint32_t cell = found[i];
+    const float distance = distances[i];
+    std::size_t j = i;
+    while (j > 0 && (distances[j - 1] > distance ||
+                     (distances[j - 1] == distance && found[j - 1] > cell))) {
+      found[j] = found[j - 1];
+      distances[j] = distances[j - 1];
+      --j;
+    }
+    found[j] = cell;
+    distances[j] = distance;
+  }
+}
+
+double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved,
+                               const Vector6d& transform, bool compute_hessian,
+                               Vector6d& gradient, Matrix6d& hessian, Pass& pass) const {
+  gradient.setZero();
+  hessian.setZero();
+  double score = 0;
+  pass.angleDerivatives(transform);
+  const Eigen::Matrix<double, 3, 6>& jacobian = pass.point_jacobian;
+  for (std::size_t idx = 0; idx < source.size(); ++idx) {
+    neighbours(moved[idx], pass.cells, pass.distances);
+    if (pass.cells.empty()) {
+      continue;
+    }
+    pass.pointDerivatives(source[idx].getVector3fMap().template cast<double>());
+    for (const std::uint32_t cell : pass.cells) {
+      const Eigen::Vector3d x_trans =
+          moved[idx].getVector3fMap().template cast<double>() - means_[cell];
+      const Eigen::Matrix3d& c_inv = inverse_covariances_[cell];
+      // updateDerivatives(): eq. 6.9, 6.10, 6.12 and 6.13 [Magnusson 2009].
+      double e_x_cov_x = std::exp(-gauss_d2_ * x_trans.dot(c_inv * x_trans) / 2);
+      const double score_inc = -gauss_d1_ * e_x_cov_x;
+      e_x_cov_x = gauss_d2_ * e_x_cov_x;
+      if (e_x_cov_x > 1 || e_x_cov_x < 0 || std::isnan(e_x_cov_x)) {
+        continue;
+      }
+      e_x_cov_x *= gauss_d1_;
+      // PCL evaluates c_inv * J_j and x_trans . (c_inv * J_j) again for every Hessian entry.
+      Eigen::Vector3d cov_dxd[6];
+      double x_dot_cov_dxd[6];
+      for (int i = 0; i < 6; ++i) {
+        cov_dxd[i] = c_inv * jacobian.col(i);
+        x_dot_cov_dxd[i] = x_trans.dot(cov_dxd[i]);
+        gradient(i) += x_dot_cov_dxd[i] * e_x_cov_x;
+      }
+      if (compute_hessian) {
+        // The point's second derivatives are zero but for rotation pairs (eq. 6.20).
+        double x_dot_cov_hessian[3][3];
+        for (int i = 3; i < 6; ++i) {
+          for (int j = 3; j < 6; ++j) {
+            x_dot_cov_hessian[i - 3][j - 3] =
+                x_trans.dot(c_inv * pass.point_hessian.block<3, 1>(3 * i, j));
+          }
+        }
+        for (int i = 0; i < 6; ++i) {
+          for (int j = 0; j < 6; ++j) {
+            const double second =
+                (i >= 3 && j >= 3) ? x_dot_cov_hessian[i - 3][j - 3] : 0.0;
+            hessian(i, j) += e_x_cov_x * (-gauss_d2_ * x_dot_cov_dxd[i] * x_dot_cov_dxd[j] +
+                                          second + jacobian.col(j).dot(cov_dxd[i]));
+          }
+        }
+      }
+      score += score_inc;
+    }
+  }
+  return score;
+}
+
+double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transform,
+                              Vector6d& direction, double step_init, double& score,
+                              Vector6d& gradient, Matrix6d& hessian, ModelCloud& moved,
+                              Eigen::Matrix4f& final_transform, Pass& pass) const {
+  // computeStepLengthMT() [More, Thuente 1994], its helpers PCL's own.
+  const MoreThuente& mt = MoreThuente::instance();
+  const double step_max = config_.step_size;
+  const double step_min = config_.transformation_epsilon / 2;
+  const double phi_0 = -score;
+  double d_phi_0 = -(gradient.dot(direction));
+  if (d_phi_0 >= 0) {
+    if (d_phi_0 == 0) {
+      return 0;
+    }
+    d_phi_0 *= -1;
+    direction *= -1;
+  }
+  const int max_step_iterations = 10;
+  int step_iterations = 0;
+  const double mu = 1.e-4;
+  const double nu = 0.9;
+  double a_l = 0, a_u = 0;
+  double f_l = mt.auxilaryFunction_PsiMT(a_l, phi_0, phi_0, d_phi_0, mu);
+  double g_l = mt.auxilaryFunction_dPsiMT(d_phi_0, d_phi_0, mu);
+  double f_u = mt.auxilaryFunction_PsiMT(a_u, phi_0, phi_0, d_phi_0, mu);
+  double g_u = mt.auxilaryFunction_dPsiMT(d_phi_0, d_phi_0, mu);
+  bool interval_converged = (step_max - step_min) < 0, open_interval = true;
+
+  double a_t = step_init;
+  a_t = std::min(a_t, step_max);
+  a_t = std::max(a_t, step_min);
+  Vector6d x_t = transform + direction * a_t;
+  final_transform = matrixOf(x_t);
+  pcl::transformPointCloud(source, moved, final_transform);
+  score = derivatives(source, moved, x_t, true, gradient, hessian, pass);
+
+  double phi_t = -score;
+  double d_phi_t = -(gradient.dot(direction));
+  double psi_t = mt.auxilaryFunction_PsiMT(a_t, phi_t, phi_0, d_phi_0, mu);
+  double d_psi_t = mt.auxilaryFunction_dPsiMT(d_phi_t, d_phi_0, mu);
+  while (!interval_converged && step_iterations < max_step_iterations &&
+         !(psi_t <= 0 && d_phi_t <= -nu * d_phi_0)) {
+    if (open_interval) {
+      a_t = mt.trialValueSelectionMT(a_l, f_l, g_l, a_u, f_u, g_u, a_t, psi_t, d_psi_t);
+    } else {
+      a_t = mt.trialValueSelectionMT(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
+    }
+    a_t = std::min(a_t, step_max);
+    a_t = std::max(a_t, step_min);
+    x_t = transform + direction * a_t;
+    final_transform = matrixOf(x_t);
+    pcl::transformPointCloud(source, moved, final_transform);
+    score = derivatives(source, moved, x_t, false, gradient, hessian, pass);
+
+    phi_t = -score;
+    d_phi_t = -(gradient.dot(direction));
+    psi_t = mt.auxilaryFunction_PsiMT(a_t, phi_t, phi_0, d_phi_0, mu);
+    d_psi_t = mt.auxilaryFunction_dPsiMT(d_phi_t, d_phi_0, mu);
+    if (open_interval && (psi_t <= 0 && d_psi_t >= 0)) {
+      open_interval = false;
+      f_l += phi_0 - mu * d_phi_0 * a_l;
+      g_l += mu * d_phi_0;
+      f_u += phi_0 - mu * d_phi_0 * a_u;
+      g_u += mu * d_phi_0;
+    }
+    if (open_interval) {
+      interval_converged =
+          mt.updateIntervalMT(a_l, f_l, g_l, a_u, f_u, g_u, a_t, psi_t, d_psi_t);
+    } else {
+      interval_converged =
+          mt.updateIntervalMT(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
+    }
+    step_iterations++;
+  }
+  // PCL's computeHessian(): the Hessian where the search stopped.
+  if (step_iterations) {
+    Vector6d unused_gradient;
+    derivatives(source, moved, x_t, true, unused_gradient, hessian, pass);
+  }
+  return a_t;
+}
+
+NdtMatcher::Result NdtMatcher::align(const ModelCloud& source) const {
+  Result result;
+  if (means_.empty() || source.empty()) {
+    return result;  // PCL reports an error and leaves everything as it was
+  }
+  Pass pass;
+  ModelCloud moved = source;  // align() starts from the source itself (an identity guess)
+
+  // computeTransformation(): the pose vector of the identity, as PCL derives it.
+  Eigen::Transform<float, 3, Eigen::Affine, Eigen::ColMajor> start;
+  start.matrix() = result.transform;
+  const Eigen::Vector3f init_translation = start.translation();
+  const Eigen::Vector3f init_rotation = start.rotation().eulerAngles(0, 1, 2);
+  Vector6d transform;
+  transform << init_translation.cast<double>(), init_rotation.cast<double>();
+
+  Vector6d gradient;
+  Matrix6d hessian;
+  double score = derivatives(source, moved, transform, true, gradient, hessian, pass);
+  while (!result.converged) {
+    // Newton's step (line 23 of Algorithm 2 [Magnusson 2009]), then its length.
+    const Eigen::JacobiSVD<Matrix6d> sv(hessian, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Vector6d delta = sv.solve(-gradient);
+    double delta_norm = delta.norm();
+    if (delta_norm == 0 || std::isnan(delta_norm)) {
+      result.likelihood = score / static_cast<double>(source.size());
+      result.converged = delta_norm == 0;
+      return result;
+    }
+    delta /= delta_norm;
+    delta_norm = stepLength(source, transform, delta, delta_norm, score, gradient, hessian,
+                            moved, result.transform, pass);
+    delta *= delta_norm;
+    const Eigen::Matrix4f step = matrixOf(delta);
+    transform += delta;
+    const double translation_sqr = step.block<3, 1>(0, 3).squaredNorm();
+    result.iterations++;
+    // PCL's test with transformation_rotation_epsilon_ left at 0.
+    if (result.iterations >= config_.max_iterations ||
+        (config_.transformation_epsilon > 0 &&
+         translation_sqr <= config_.transformation_epsilon)) {
+      result.converged = true;
+    }
+  }
+  result.likelihood = score / static_cast<double>(source.size());
+  return result;
+}
+
+}  // namespace granular

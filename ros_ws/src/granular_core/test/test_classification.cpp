@@ -234,6 +234,15 @@ TEST(ClassifierConfigTest, RefusesBadInput) {
                std::invalid_argument);
 }
 
+// The points as x y z floats, as NearestGrid and NearestPoints take them.
+std::vector<float> xyzOf(const ModelCloud& cloud) {
+  std::vector<float> xyz;
+  for (const pcl::PointXYZ& p : cloud.points) {
+    xyz.insert(xyz.end(), {p.x, p.y, p.z});
+  }
+  return xyz;
+}
+
 // Brute force with FLANN's L2_Simple order of operations.
 float bruteNearest(const std::vector<float>& points, const float* query, float bound) {
   float best = bound;
@@ -251,10 +260,7 @@ float bruteNearest(const std::vector<float>& points, const float* query, float b
 TEST(NearestSearchTest, GridAndTreeFindTheExactNearestDistance) {
   std::mt19937 random(7);
   const ModelCloud surface = boxSurface({4.5, 1.8, 1.5}, 3000, random);
-  std::vector<float> points;
-  for (const pcl::PointXYZ& p : surface.points) {
-    points.insert(points.end(), {p.x, p.y, p.z});
-  }
+  const std::vector<float> points = xyzOf(surface);
   const NearestGrid grid(points.data(), surface.size(), 2);
   const NearestPoints tree(points.data(), surface.size());
   std::uniform_real_distribution<float> near(-3.0f, 3.0f);
@@ -288,10 +294,7 @@ TEST(NearestSearchTest, GridAndTreeFindTheExactNearestDistance) {
 TEST(NearestSearchTest, APacketOfQueriesGetsEachQuerysExactDistance) {
   std::mt19937 random(11);
   const ModelCloud surface = boxSurface({4.5, 1.8, 1.5}, 3000, random);
-  std::vector<float> points;
-  for (const pcl::PointXYZ& p : surface.points) {
-    points.insert(points.end(), {p.x, p.y, p.z});
-  }
+  const std::vector<float> points = xyzOf(surface);
   const NearestPoints tree(points.data(), surface.size());
   constexpr int kPacket = NearestPoints::kPacket;
   std::uniform_real_distribution<float> centre(-12.0f, 12.0f);

@@ -32,8 +32,10 @@ const char* const kUsage =
     "report's loop did (one thread; for every object and model a fresh PCL registration object\n"
     "given the model as target, so the model's kd-tree, and NDT's voxel grid, are built again\n"
     "for every pair), then as classify_registration does (each model's structures built once,\n"
-    "objects spread over threads). Prints the seconds of each, the speed-up, and whether the\n"
-    "two give the same predictions under the three criteria. Needs no roscore.\n"
+    "objects spread over threads). Prints the seconds of each, the speed-up, how many objects\n"
+    "the two predict differently under the three criteria (different), and how many\n"
+    "object-model pairs differ at all in state, iterations, fitness or transform (pairs\n"
+    "differ). Needs no roscore.\n"
     "\n"
     "options:\n"
     "  --models FOLDER    class models (<Class>.pcd)\n"
@@ -105,6 +107,25 @@ std::size_t differentPredictions(const std::vector<std::vector<granular::PairRes
   return different;
 }
 
+// Pairs whose state, iterations, fitness or transform differ at all.
+std::size_t differentPairs(const std::vector<std::vector<granular::PairResult>>& a,
+                           const std::vector<std::vector<granular::PairResult>>& b) {
+  std::size_t different = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (std::size_t m = 0; m < a[i].size(); ++m) {
+      const granular::PairResult& pa = a[i][m];
+      const granular::PairResult& pb = b[i][m];
+      const bool same_fitness =
+          pa.fitness == pb.fitness || (std::isnan(pa.fitness) && std::isnan(pb.fitness));
+      if (pa.state != pb.state || pa.iterations != pb.iterations || !same_fitness ||
+          pa.transform != pb.transform) {
+        ++different;
+      }
+    }
+  }
+  return different;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,8 +163,8 @@ int main(int argc, char** argv) {
     const std::vector<granular::ModelCloud> objects = readObjects(options.objects);
     std::printf("%zu objects, %zu models, preset %s\n", objects.size(), models.size(),
                 options.preset.c_str());
-    std::printf("%-8s %12s %12s %10s %9s %12s\n", "method", "report loop", "granular",
-                "speed-up", "threads", "different");
+    std::printf("%-8s %12s %12s %10s %9s %12s %14s\n", "method", "report loop", "granular",
+                "speed-up", "threads", "different", "pairs differ");
     for (const std::string& name : options.methods) {
       const granular::RegistrationMethod method = *granular::registrationMethodFromName(name);
       granular::RegisterOptions fast_options;
@@ -162,8 +183,9 @@ int main(int argc, char** argv) {
       const std::size_t different = differentPredictions(plain, fast);
       agree = agree && different == 0;
       const int threads = granular::registrationThreads(fast_options);
-      std::printf("%-8s %11.2fs %11.3fs %9.1fx %9d %12zu\n", name.c_str(), plain_seconds,
-                  fast_seconds, plain_seconds / fast_seconds, threads, different);
+      std::printf("%-8s %11.2fs %11.3fs %9.1fx %9d %12zu %14zu\n", name.c_str(),
+                  plain_seconds, fast_seconds, plain_seconds / fast_seconds, threads, different,
+                  differentPairs(plain, fast));
       std::fflush(stdout);
     }
   } catch (const std::exception& error) {

@@ -1,6 +1,7 @@
 // PCL 1.13's NDT, pcl/registration/impl/ndt.hpp, restructured for speed and kept to its
-// arithmetic: where PCL evaluates an expression, this file evaluates the same Eigen expression
-// on the same types, so that the results agree bit for bit (test_classification checks).
+// arithmetic: what does not search the model is PCL's own code (NdtParts), and where this file
+// restates PCL it evaluates the same Eigen expressions on the same types, so that the results
+// agree bit for bit (test_classification and bench_registration check).
 #include "granular_core/classification/ndt_matcher.h"
 
 #include <algorithm>
@@ -27,19 +28,29 @@ class ModelCells : public pcl::VoxelGridCovariance<Point> {
   const std::vector<int>& centroidLeaves() const { return voxel_centroids_leaf_indices_; }
 };
 
-// The More-Thuente interval update and trial-step selection of PCL's NDT, stateless helpers
-// that PCL keeps protected.
-class MoreThuente : public pcl::NormalDistributionsTransform<Point, Point> {
- public:
-  using pcl::NormalDistributionsTransform<Point, Point>::auxilaryFunction_dPsiMT;
-  using pcl::NormalDistributionsTransform<Point, Point>::auxilaryFunction_PsiMT;
-  using pcl::NormalDistributionsTransform<Point, Point>::trialValueSelectionMT;
-  using pcl::NormalDistributionsTransform<Point, Point>::updateIntervalMT;
+// The parts of PCL's NDT that do not search the model, which PCL keeps protected: the
+// More-Thuente interval update and trial step, and the derivatives of the transformed points
+// with respect to the pose (computeAngleDerivatives, computePointDerivatives), which PCL
+// leaves in its members of those names.
+class NdtParts : public pcl::NormalDistributionsTransform<Point, Point> {
+  using Pcl = pcl::NormalDistributionsTransform<Point, Point>;
 
-  static const MoreThuente& instance() {
-    static const MoreThuente helpers;
-    return helpers;
+ public:
+  using Pcl::auxilaryFunction_dPsiMT;
+  using Pcl::auxilaryFunction_PsiMT;
+  using Pcl::computeAngleDerivatives;
+  using Pcl::computePointDerivatives;
+  using Pcl::trialValueSelectionMT;
+  using Pcl::updateIntervalMT;
+
+  // The point derivatives as computeTransformation() sets them up before its first step.
+  NdtParts() {
+    point_jacobian_.setZero();
+    point_jacobian_.block<3, 3>(0, 0).setIdentity();
+    point_hessian_.setZero();
   }
+  const Eigen::Matrix<double, 3, 6>& pointJacobian() const { return point_jacobian_; }
+  const Eigen::Matrix<double, 18, 6>& pointHessian() const { return point_hessian_; }
 };
 
 // Buckets in the centroid grid at most; a larger model gets larger buckets.
@@ -57,113 +68,11 @@ Eigen::Matrix4f matrixOf(const Eigen::Matrix<double, 6, 1>& x) {
 
 }  // namespace
 
-// One alignment's scratch: the angular and point derivatives (PCL's members of those names)
-// and the neighbour lists.
+// One alignment's scratch: PCL's derivative state, and the neighbour lists.
 struct NdtMatcher::Pass {
-  Eigen::Matrix<double, 8, 4> angular_jacobian;
-  Eigen::Matrix<double, 15, 4> angular_hessian;
-  Eigen::Matrix<double, 3, 6> point_jacobian;
-  Eigen::Matrix<double, 18, 6> point_hessian;
+  NdtParts ndt;
   std::vector<std::uint32_t> cells;
   std::vector<float> distances;
-
-  Pass() {
-    point_jacobian.setZero();
-    point_jacobian.block<3, 3>(0, 0).setIdentity();
-    point_hessian.setZero();
-  }
-
-  // computeAngleDerivatives(transform), with the Hessian's terms as PCL always computes them.
-  void angleDerivatives(const Eigen::Matrix<double, 6, 1>& transform) {
-    const auto cos_sin = [](double angle, double& c, double& s) {
-      if (std::abs(angle) < 10e-5) {
-        c = 1.0;
-        s = 0.0;
-      } else {
-        c = std::cos(angle);
-        s = std::sin(angle);
-      }
-    };
-    double cx, cy, cz, sx, sy, sz;
-    cos_sin(transform(3), cx, sx);
-    cos_sin(transform(4), cy, sy);
-    cos_sin(transform(5), cz, sz);
-
-    angular_jacobian.setZero();
-    angular_jacobian.row(0).noalias() =
-        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-sx * cz - cx * sy * sz), (-cx * cy), 1.0);
-    angular_jacobian.row(1).noalias() =
-        Eigen::Vector4d((cx * sz + sx * sy * cz), (cx * cz - sx * sy * sz), (-sx * cy), 1.0);
-    angular_jacobian.row(2).noalias() = Eigen::Vector4d((-sy * cz), sy * sz, cy, 1.0);
-    angular_jacobian.row(3).noalias() =
-        Eigen::Vector4d(sx * cy * cz, (-sx * cy * sz), sx * sy, 1.0);
-    angular_jacobian.row(4).noalias() =
-        Eigen::Vector4d((-cx * cy * cz), cx * cy * sz, (-cx * sy), 1.0);
-    angular_jacobian.row(5).noalias() = Eigen::Vector4d((-cy * sz), (-cy * cz), 0, 1.0);
-    angular_jacobian.row(6).noalias() =
-        Eigen::Vector4d((cx * cz - sx * sy * sz), (-cx * sz - sx * sy * cz), 0, 1.0);
-    angular_jacobian.row(7).noalias() =
-        Eigen::Vector4d((sx * cz + cx * sy * sz), (cx * sy * cz - sx * sz), 0, 1.0);
-
-    angular_hessian.setZero();
-    angular_hessian.row(0).noalias() =
-        Eigen::Vector4d((-cx * sz - sx * sy * cz), (-cx * cz + sx * sy * sz), sx * cy, 0.0f);
-    angular_hessian.row(1).noalias() =
-        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-cx * sy * sz - sx * cz), (-cx * cy), 0.0f);
-    angular_hessian.row(2).noalias() =
-        Eigen::Vector4d((cx * cy * cz), (-cx * cy * sz), (cx * sy), 0.0f);
-    angular_hessian.row(3).noalias() =
-        Eigen::Vector4d((sx * cy * cz), (-sx * cy * sz), (sx * sy), 0.0f);
-    angular_hessian.row(4).noalias() =
-        Eigen::Vector4d((-sx * cz - cx * sy * sz), (sx * sz - cx * sy * cz), 0, 0.0f);
-    angular_hessian.row(5).noalias() =
-        Eigen::Vector4d((cx * cz - sx * sy * sz), (-sx * sy * cz - cx * sz), 0, 0.0f);
-    angular_hessian.row(6).noalias() = Eigen::Vector4d((-cy * cz), (cy * sz), (-sy), 0.0f);
-    angular_hessian.row(7).noalias() =
-        Eigen::Vector4d((-sx * sy * cz), (sx * sy * sz), (sx * cy), 0.0f);
-    angular_hessian.row(8).noalias() =
-        Eigen::Vector4d((cx * sy * cz), (-cx * sy * sz), (-cx * cy), 0.0f);
-    angular_hessian.row(9).noalias() = Eigen::Vector4d((sy * sz), (sy * cz), 0, 0.0f);
-    angular_hessian.row(10).noalias() = Eigen::Vector4d((-sx * cy * sz), (-sx * cy * cz), 0, 0.0f);
-    angular_hessian.row(11).noalias() = Eigen::Vector4d((cx * cy * sz), (cx * cy * cz), 0, 0.0f);
-    angular_hessian.row(12).noalias() = Eigen::Vector4d((-cy * cz), (cy * sz), 0, 0.0f);
-    angular_hessian.row(13).noalias() =
-        Eigen::Vector4d((-cx * sz - sx * sy * cz), (-cx * cz + sx * sy * sz), 0, 0.0f);
-    angular_hessian.row(14).noalias() =
-        Eigen::Vector4d((-sx * sz + cx * sy * cz), (-cx * sy * sz - sx * cz), 0, 0.0f);
-  }
-
-  // computePointDerivatives(x): once per point here, where PCL repeats it for every cell.
-  void pointDerivatives(const Eigen::Vector3d& x) {
-    const Eigen::Matrix<double, 8, 1> point_angular_jacobian =
-        angular_jacobian * Eigen::Vector4d(x[0], x[1], x[2], 0.0);
-    point_jacobian(1, 3) = point_angular_jacobian[0];
-    point_jacobian(2, 3) = point_angular_jacobian[1];
-    point_jacobian(0, 4) = point_angular_jacobian[2];
-    point_jacobian(1, 4) = point_angular_jacobian[3];
-    point_jacobian(2, 4) = point_angular_jacobian[4];
-    point_jacobian(0, 5) = point_angular_jacobian[5];
-    point_jacobian(1, 5) = point_angular_jacobian[6];
-    point_jacobian(2, 5) = point_angular_jacobian[7];
-
-    const Eigen::Matrix<double, 15, 1> point_angular_hessian =
-        angular_hessian * Eigen::Vector4d(x[0], x[1], x[2], 0.0);
-    const Eigen::Vector3d a(0, point_angular_hessian[0], point_angular_hessian[1]);
-    const Eigen::Vector3d b(0, point_angular_hessian[2], point_angular_hessian[3]);
-    const Eigen::Vector3d c(0, point_angular_hessian[4], point_angular_hessian[5]);
-    const Eigen::Vector3d d = point_angular_hessian.block<3, 1>(6, 0);
-    const Eigen::Vector3d e = point_angular_hessian.block<3, 1>(9, 0);
-    const Eigen::Vector3d f = point_angular_hessian.block<3, 1>(12, 0);
-    point_hessian.block<3, 1>(9, 3) = a;
-    point_hessian.block<3, 1>(12, 3) = b;
-    point_hessian.block<3, 1>(15, 3) = c;
-    point_hessian.block<3, 1>(9, 4) = b;
-    point_hessian.block<3, 1>(12, 4) = d;
-    point_hessian.block<3, 1>(15, 4) = e;
-    point_hessian.block<3, 1>(9, 5) = c;
-    point_hessian.block<3, 1>(12, 5) = e;
-    point_hessian.block<3, 1>(15, 5) = f;
-  }
 };
 
 NdtMatcher::NdtMatcher(const ModelCloud& model, const NdtClassifierConfig& config)
@@ -296,14 +205,15 @@ double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved
   gradient.setZero();
   hessian.setZero();
   double score = 0;
-  pass.angleDerivatives(transform);
-  const Eigen::Matrix<double, 3, 6>& jacobian = pass.point_jacobian;
+  pass.ndt.computeAngleDerivatives(transform);
+  const Eigen::Matrix<double, 3, 6>& jacobian = pass.ndt.pointJacobian();
   for (std::size_t idx = 0; idx < source.size(); ++idx) {
     neighbours(moved[idx], pass.cells, pass.distances);
     if (pass.cells.empty()) {
       continue;
     }
-    pass.pointDerivatives(source[idx].getVector3fMap().template cast<double>());
+    // Once per point here, where PCL repeats it for every cell the point meets.
+    pass.ndt.computePointDerivatives(source[idx].getVector3fMap().template cast<double>());
     for (const std::uint32_t cell : pass.cells) {
       const Eigen::Vector3d x_trans =
           moved[idx].getVector3fMap().template cast<double>() - means_[cell];
@@ -330,7 +240,7 @@ double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved
         for (int i = 3; i < 6; ++i) {
           for (int j = 3; j < 6; ++j) {
             x_dot_cov_hessian[i - 3][j - 3] =
-                x_trans.dot(c_inv * pass.point_hessian.block<3, 1>(3 * i, j));
+                x_trans.dot(c_inv * pass.ndt.pointHessian().block<3, 1>(3 * i, j));
           }
         }
         for (int i = 0; i < 6; ++i) {
@@ -353,7 +263,7 @@ double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transfor
                               Vector6d& gradient, Matrix6d& hessian, ModelCloud& moved,
                               Eigen::Matrix4f& final_transform, Pass& pass) const {
   // computeStepLengthMT() [More, Thuente 1994], its helpers PCL's own.
-  const MoreThuente& mt = MoreThuente::instance();
+  const NdtParts& mt = pass.ndt;
   const double step_max = config_.step_size;
   const double step_min = config_.transformation_epsilon / 2;
   const double phi_0 = -score;

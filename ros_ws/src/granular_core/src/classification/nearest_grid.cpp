@@ -14,6 +14,19 @@ constexpr double kMaxCells = 4.0e6;
 // surface clouds leave most cells empty and a few points in the others.
 constexpr double kPointsPerCellVolume = 0.125;
 
+// Calls visit(cell) for every cell of the box of cells [low, high] (x y z) that lies in a
+// grid of `size` cells, cell = (z * size[1] + y) * size[0] + x.
+template <typename Visit>
+void forEachCell(const int low[3], const int high[3], const int size[3], Visit visit) {
+  for (int z = std::max(low[2], 0); z <= std::min(high[2], size[2] - 1); ++z) {
+    for (int y = std::max(low[1], 0); y <= std::min(high[1], size[1] - 1); ++y) {
+      for (int x = std::max(low[0], 0); x <= std::min(high[0], size[0] - 1); ++x) {
+        visit((static_cast<std::size_t>(z) * size[1] + y) * size[0] + x);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
@@ -66,25 +79,19 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
   }
   // The cells within max_rings rings of a point: a query elsewhere cannot be settled here.
   near_.assign(cells, 0);
-  for (int z = 0; z < size_[2]; ++z) {
-    for (int y = 0; y < size_[1]; ++y) {
-      for (int x = 0; x < size_[0]; ++x) {
-        const std::size_t cell = (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
-        if (cell_start_[cell] == cell_start_[cell + 1]) {
-          continue;
-        }
-        for (int nz = std::max(z - max_rings_, 0); nz <= std::min(z + max_rings_, size_[2] - 1);
-             ++nz) {
-          for (int ny = std::max(y - max_rings_, 0);
-               ny <= std::min(y + max_rings_, size_[1] - 1); ++ny) {
-            for (int nx = std::max(x - max_rings_, 0);
-                 nx <= std::min(x + max_rings_, size_[0] - 1); ++nx) {
-              near_[(static_cast<std::size_t>(nz) * size_[1] + ny) * size_[0] + nx] = 1;
-            }
-          }
-        }
-      }
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    if (cell_start_[cell] == cell_start_[cell + 1]) {
+      continue;
     }
+    const int coordinates[3] = {static_cast<int>(cell % size_[0]),
+                                static_cast<int>(cell / size_[0] % size_[1]),
+                                static_cast<int>(cell / size_[0] / size_[1])};
+    int low[3], high[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = coordinates[axis] - max_rings_;
+      high[axis] = coordinates[axis] + max_rings_;
+    }
+    forEachCell(low, high, size_, [this](std::size_t around) { near_[around] = 1; });
   }
   std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
   points_.resize(3 * count);
@@ -157,21 +164,15 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
   if (reach <= static_cast<float>(max_rings_) * cell_) {
     int low[3], high[3];
     for (int axis = 0; axis < 3; ++axis) {
-      low[axis] = std::max(
-          0, static_cast<int>(std::floor((query[axis] - reach - origin_[axis]) / cell_)));
-      high[axis] = std::min(
-          size_[axis] - 1,
-          static_cast<int>(std::floor((query[axis] + reach - origin_[axis]) / cell_)));
+      low[axis] = static_cast<int>(std::floor((query[axis] - reach - origin_[axis]) / cell_));
+      high[axis] = static_cast<int>(std::floor((query[axis] + reach - origin_[axis]) / cell_));
     }
-    for (int z = low[2]; z <= high[2]; ++z) {
-      for (int y = low[1]; y <= high[1]; ++y) {
-        for (int x = low[0]; x <= high[0]; ++x) {
-          if (!(inside && x == centre[0] && y == centre[1] && z == centre[2])) {
-            scan(cellIndex(x, y, z), query, result);
-          }
-        }
+    const std::size_t own = inside ? cellIndex(centre[0], centre[1], centre[2]) : cell_start_.size();
+    forEachCell(low, high, size_, [&](std::size_t cell) {
+      if (cell != own) {
+        scan(cell, query, result);
       }
-    }
+    });
     result.resolved = true;
     return result;
   }

@@ -37,9 +37,6 @@ class NearestGrid {
   Result nearest(const float query[3],
                  float bound = std::numeric_limits<float>::infinity()) const;
 
-  /// m, the edge of a cell.
-  float cellSize() const { return cell_; }
-
  private:
   // Offers the points of one cell to `result`.
   void scan(std::size_t cell, const float query[3], Result& result) const;

@@ -16,6 +16,7 @@
 #include <pcl/registration/ndt.h>
 
 #include "granular_core/classification/nearest_points.h"
+#include "grid_cells.h"
 
 namespace granular {
 namespace {
@@ -139,13 +140,9 @@ NdtMatcher::NdtMatcher(const ModelCloud& model, const NdtClassifierConfig& confi
     }
   }
   const auto forEachNeighbour = [&](const std::array<int, 3>& centre, const auto& visit) {
-    for (int z = centre[2] - 1; z <= centre[2] + 1; ++z) {
-      for (int y = centre[1] - 1; y <= centre[1] + 1; ++y) {
-        for (int x = centre[0] - 1; x <= centre[0] + 1; ++x) {
-          visit((static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x);
-        }
-      }
-    }
+    const int low[3] = {centre[0] - 1, centre[1] - 1, centre[2] - 1};
+    const int high[3] = {centre[0] + 1, centre[1] + 1, centre[2] + 1};
+    forEachCell(low, high, size_, visit);
   };
   bucket_start_.assign(buckets + 1, 0);
   for (std::size_t i = 0; i < means_.size(); ++i) {

@@ -61,9 +61,9 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
-      .value("--models", options.models)
-      .value("--objects", options.objects)
+      .help(options.help)
+      .required("--models", options.models)
+      .required("--objects", options.objects)
       .custom("--methods",
               [&options](granular_ros::OptionReader& reader) {
                 options.methods = granular_ros::splitList("--methods", reader.value());
@@ -72,9 +72,6 @@ Options parseArguments(int argc, char** argv) {
       .value("--config", options.config_file)
       .number("--threads", options.threads)
       .parse(argc, argv);
-  if (!options.help && (options.models.empty() || options.objects.empty())) {
-    throw std::invalid_argument("--models and --objects are required");
-  }
   return options;
 }
 

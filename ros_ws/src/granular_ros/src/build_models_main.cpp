@@ -86,11 +86,11 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
+      .help(options.help)
       .flag("--overwrite", options.overwrite)
       .flag("--mesh", options.mesh)
-      .value("--objects", options.objects)
-      .value("--out", options.out)
+      .required("--objects", options.objects)
+      .required("--out", options.out)
       .value("--config", options.config_file)
       .value("--method", options.method)
       .value("--classes", options.classes)
@@ -109,9 +109,6 @@ Options parseArguments(int argc, char** argv) {
                 }
               })
       .parse(argc, argv);
-  if (!options.help && (options.objects.empty() || options.out.empty())) {
-    throw std::invalid_argument("--objects and --out are required");
-  }
   return options;
 }
 

@@ -76,11 +76,11 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
-      .value("--models", options.models)
-      .value("--objects", options.objects)
-      .value("--method", options.method)
-      .value("--out", options.out)
+      .help(options.help)
+      .required("--models", options.models)
+      .required("--objects", options.objects)
+      .required("--method", options.method)
+      .required("--out", options.out)
       .value("--preset", options.preset)
       .value("--config", options.config_file)
       .custom("--threads",
@@ -91,10 +91,6 @@ Options parseArguments(int argc, char** argv) {
                 }
               })
       .parse(argc, argv);
-  if (!options.help && (options.models.empty() || options.objects.empty() ||
-                        options.method.empty() || options.out.empty())) {
-    throw std::invalid_argument("--models, --objects, --method and --out are required");
-  }
   return options;
 }
 

@@ -49,16 +49,13 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
-      .value("--model", options.model)
-      .value("--objects", options.objects)
-      .value("--out", options.out)
+      .help(options.help)
+      .required("--model", options.model)
+      .required("--objects", options.objects)
+      .required("--out", options.out)
       .value("--config", options.config_file)
       .number("--threads", options.threads)
       .parse(argc, argv);
-  if (!options.help && (options.model.empty() || options.objects.empty() || options.out.empty())) {
-    throw std::invalid_argument("--model, --objects and --out are required");
-  }
   return options;
 }
 

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -50,6 +51,16 @@ OptionTable& OptionTable::flag(const std::string& name, bool& field, const std::
   return alias.empty() ? *this : custom(alias, handlers_.at(name));
 }
 
+OptionTable& OptionTable::help(bool& field) {
+  help_ = &field;
+  return flag("--help", field, "-h");
+}
+
+OptionTable& OptionTable::required(const std::string& name, std::string& field) {
+  required_.emplace_back(name, &field);
+  return value(name, field);
+}
+
 OptionTable& OptionTable::value(const std::string& name, std::string& field) {
   return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
 }
@@ -71,6 +82,18 @@ void OptionTable::parse(int argc, char** argv) const {
       reader.unknown();
     }
     handler->second(reader);
+  }
+  if (help_ != nullptr && *help_) {
+    return;
+  }
+  const bool missing = std::any_of(required_.begin(), required_.end(),
+                                   [](const auto& option) { return option.second->empty(); });
+  if (missing) {
+    std::string names;
+    for (std::size_t i = 0; i < required_.size(); ++i) {
+      names += (i == 0 ? "" : i + 1 == required_.size() ? " and " : ", ") + required_[i].first;
+    }
+    throw std::invalid_argument(names + (required_.size() == 1 ? " is" : " are") + " required");
   }
 }
 

@@ -61,8 +61,8 @@ int main(int argc, char** argv) {
     bool help = false;
     std::optional<std::string> config_file;
     granular_ros::OptionTable()
-        .flag("--help", help, "-h")
-        .value("--frames", frames)
+        .help(help)
+        .required("--frames", frames)
         .value("--config", config_file)
         .number("--max-distance", max_distance)
         .number("--min-points", min_points)
@@ -73,9 +73,6 @@ int main(int argc, char** argv) {
     }
     if (config_file) {
       granular_ros::loadSegmentationConfig(*config_file, config);
-    }
-    if (frames.empty()) {
-      throw std::invalid_argument("--frames is required");
     }
     granular::validate(config);
   } catch (const std::exception& error) {

@@ -75,18 +75,15 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
+      .help(options.help)
       .flag("--overwrite", options.overwrite)
-      .value("--in", options.in)
-      .value("--out", options.out)
+      .required("--in", options.in)
+      .required("--out", options.out)
       .value("--config", options.config_file)
       .value("--n-thresh", options.n_thresh)
       .value("--labels", options.labels)
       .value("--padding", options.padding)
       .parse(argc, argv);
-  if (!options.help && (options.in.empty() || options.out.empty())) {
-    throw std::invalid_argument("--in and --out are required");
-  }
   return options;
 }
 

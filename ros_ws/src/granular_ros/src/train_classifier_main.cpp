@@ -53,16 +53,13 @@ struct Options {
 Options parseArguments(int argc, char** argv) {
   Options options;
   granular_ros::OptionTable()
-      .flag("--help", options.help, "-h")
-      .value("--objects", options.objects)
-      .value("--method", options.method)
-      .value("--out", options.out)
+      .help(options.help)
+      .required("--objects", options.objects)
+      .required("--method", options.method)
+      .required("--out", options.out)
       .value("--config", options.config_file)
       .number("--threads", options.threads)
       .parse(argc, argv);
-  if (!options.help && (options.objects.empty() || options.method.empty() || options.out.empty())) {
-    throw std::invalid_argument("--objects, --method and --out are required");
-  }
   return options;
 }
 

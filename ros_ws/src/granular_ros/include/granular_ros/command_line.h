@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granular_ros {
@@ -46,6 +47,11 @@ class OptionTable {
 
   /// An option without a value; also under `alias` (e.g. "-h") when given.
   OptionTable& flag(const std::string& name, bool& field, const std::string& alias = "");
+  /// --help and -h: when given, parse() does not ask for the required options.
+  OptionTable& help(bool& field);
+  /// A value the tool cannot run without: parse() fails when any is missing (or empty),
+  /// naming every required option ("--a, --b and --c are required").
+  OptionTable& required(const std::string& name, std::string& field);
   OptionTable& value(const std::string& name, std::string& field);
   OptionTable& value(const std::string& name, std::optional<std::string>& field);
   /// A value parsed as a number of T (parseNumber).
@@ -58,6 +64,8 @@ class OptionTable {
 
  private:
   std::map<std::string, Handler> handlers_;
+  const bool* help_ = nullptr;
+  std::vector<std::pair<std::string, const std::string*>> required_;  ///< in the order given
 };
 
 /// The items of a comma-separated list, trimmed; an empty item or list is an error naming

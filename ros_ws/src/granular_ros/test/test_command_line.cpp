@@ -1,0 +1,82 @@
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "granular_ros/command_line.h"
+
+namespace granular_ros {
+namespace {
+
+// Parses `arguments` (after the tool's name) with a table of --help, two required options
+// and an optional one, as the tools declare theirs.
+struct Parsed {
+  bool help = false;
+  std::string objects;
+  std::string out;
+  std::string preset = "report";
+};
+
+Parsed parse(std::vector<std::string> arguments) {
+  arguments.insert(arguments.begin(), "tool");
+  std::vector<char*> argv;
+  for (std::string& argument : arguments) {
+    argv.push_back(argument.data());
+  }
+  Parsed parsed;
+  OptionTable()
+      .help(parsed.help)
+      .required("--objects", parsed.objects)
+      .required("--out", parsed.out)
+      .value("--preset", parsed.preset)
+      .parse(static_cast<int>(argv.size()), argv.data());
+  return parsed;
+}
+
+std::string errorOf(const std::vector<std::string>& arguments) {
+  try {
+    parse(arguments);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(OptionTableTest, RequiredOptionsAreReadLikeAnyOther) {
+  const Parsed parsed = parse({"--objects", "objects", "--out=results.json"});
+  EXPECT_EQ(parsed.objects, "objects");
+  EXPECT_EQ(parsed.out, "results.json");
+  EXPECT_EQ(parsed.preset, "report");
+  EXPECT_FALSE(parsed.help);
+}
+
+TEST(OptionTableTest, AMissingRequiredOptionNamesThemAll) {
+  EXPECT_EQ(errorOf({"--objects", "objects"}), "--objects and --out are required");
+  EXPECT_EQ(errorOf({}), "--objects and --out are required");
+  EXPECT_EQ(errorOf({"--out", ""}), "--objects and --out are required");  // empty is missing
+}
+
+TEST(OptionTableTest, HelpNeedsNoRequiredOption) {
+  EXPECT_TRUE(parse({"--help"}).help);
+  EXPECT_TRUE(parse({"-h", "--preset", "tuned"}).help);
+}
+
+TEST(OptionTableTest, OneRequiredOptionIsNamedAlone) {
+  std::string frames;
+  std::vector<std::string> arguments = {"tool"};
+  std::vector<char*> argv = {arguments[0].data()};
+  try {
+    OptionTable().required("--frames", frames).parse(1, argv.data());
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_STREQ(error.what(), "--frames is required");
+  }
+}
+
+TEST(OptionTableTest, UnknownOptionsAreStillErrors) {
+  EXPECT_NE(errorOf({"--objects", "o", "--out", "r", "--outt", "x"}), "");
+}
+
+}  // namespace
+}  // namespace granular_ros

@@ -16,7 +16,7 @@
 #include <pcl/registration/ndt.h>
 
 #include "granular_core/classification/nearest_points.h"
-#include "grid_cells.h"
+#include "../grid_cells.h"
 
 namespace granular {
 namespace {

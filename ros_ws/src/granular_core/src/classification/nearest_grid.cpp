@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "granular_core/classification/nearest_points.h"
-#include "grid_cells.h"
+#include "../grid_cells.h"
 
 namespace granular {
 namespace {
@@ -56,14 +57,16 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
     return index;
   };
   const std::size_t cells = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
-  cell_start_.assign(cells + 1, 0);
   std::vector<std::size_t> cell_of(count);
   for (std::size_t i = 0; i < count; ++i) {
     cell_of[i] = cellOf(&xyz[3 * i]);
-    ++cell_start_[cell_of[i] + 1];
   }
-  for (std::size_t c = 0; c < cells; ++c) {
-    cell_start_[c + 1] += cell_start_[c];
+  CellLists lists = sortIntoCells(cell_of, cells);
+  cell_start_ = std::move(lists.start);
+  indices_ = std::move(lists.order);
+  points_.resize(3 * count);
+  for (std::size_t slot = 0; slot < count; ++slot) {
+    std::copy(&xyz[3 * indices_[slot]], &xyz[3 * indices_[slot]] + 3, &points_[3 * slot]);
   }
   // The cells within max_rings rings of a point: a query elsewhere cannot be settled here.
   near_.assign(cells, 0);
@@ -80,14 +83,6 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
       high[axis] = coordinates[axis] + max_rings_;
     }
     forEachCell(low, high, size_, [this](std::size_t around) { near_[around] = 1; });
-  }
-  std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
-  points_.resize(3 * count);
-  indices_.resize(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::uint32_t slot = next[cell_of[i]]++;
-    std::copy(&xyz[3 * i], &xyz[3 * i] + 3, &points_[3 * slot]);
-    indices_[slot] = static_cast<std::uint32_t>(i);
   }
 }
 

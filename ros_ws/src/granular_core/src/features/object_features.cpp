@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <random>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+
+#include "../grid_cells.h"
 
 namespace granular {
 namespace {
@@ -43,18 +44,11 @@ class CellIndex {
     for (int axis = 0; axis < 3; ++axis) {
       size_[axis] = static_cast<int>((high[axis] - low_[axis]) / cell_) + 1;
     }
-    start_.assign(static_cast<std::size_t>(size_[0]) * size_[1] * size_[2] + 1, 0);
     std::vector<std::size_t> cell_of(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
       cell_of[i] = index(coordinates(points[i]));
-      ++start_[cell_of[i] + 1];
     }
-    std::partial_sum(start_.begin(), start_.end(), start_.begin());
-    std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-    order_.resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      order_[next[cell_of[i]]++] = static_cast<std::uint32_t>(i);
-    }
+    lists_ = sortIntoCells(cell_of, static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
   }
 
   // Calls visit(point index) for every point in the cells overlapping the box
@@ -62,19 +56,13 @@ class CellIndex {
   template <typename Visit>
   void forEachNear(const Eigen::Vector3f& centre, const Eigen::Vector3f& half,
                    Visit visit) const {
-    const Eigen::Vector3i low = coordinates(centre - half).cwiseMax(0);
-    const Eigen::Vector3i high =
-        coordinates(centre + half).cwiseMin(Eigen::Vector3i(size_[0] - 1, size_[1] - 1, size_[2] - 1));
-    for (int z = low.z(); z <= high.z(); ++z) {
-      for (int y = low.y(); y <= high.y(); ++y) {
-        for (int x = low.x(); x <= high.x(); ++x) {
-          const std::size_t cell = index(Eigen::Vector3i(x, y, z));
-          for (std::uint32_t k = start_[cell]; k < start_[cell + 1]; ++k) {
-            visit(order_[k]);
-          }
-        }
+    const Eigen::Vector3i low = coordinates(centre - half);
+    const Eigen::Vector3i high = coordinates(centre + half);
+    forEachCell(low.data(), high.data(), size_, [&](std::size_t cell) {
+      for (std::uint32_t k = lists_.start[cell]; k < lists_.start[cell + 1]; ++k) {
+        visit(lists_.order[k]);
       }
-    }
+    });
   }
 
  private:
@@ -94,14 +82,22 @@ class CellIndex {
   float cell_;
   Eigen::Vector3f low_;
   int size_[3] = {1, 1, 1};
-  std::vector<std::uint32_t> start_;
-  std::vector<std::uint32_t> order_;
+  CellLists lists_;
 };
 
 // The bin of a value in [0, 1] (values outside are clamped to the end bins).
 std::size_t binOf(double value, std::size_t bins) {
   const double scaled = std::floor(value * static_cast<double>(bins));
   return static_cast<std::size_t>(std::clamp(scaled, 0.0, static_cast<double>(bins - 1)));
+}
+
+// The mean of `points` (at least one), summed in double.
+Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3f>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : points) {
+    sum += p.cast<double>();
+  }
+  return sum / static_cast<double>(points.size());
 }
 
 }  // namespace
@@ -172,11 +168,7 @@ std::array<double, 3> lalondeFeatures(const std::vector<Eigen::Vector3f>& points
   if (points.size() < 3) {
     return {0.0, 0.0, 0.0};
   }
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3f& p : points) {
-    mean += p.cast<double>();
-  }
-  mean /= static_cast<double>(points.size());
+  const Eigen::Vector3d mean = meanOf(points);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3f& p : points) {
     const Eigen::Vector3d d = p.cast<double>() - mean;
@@ -202,11 +194,7 @@ std::vector<float> meanStdFeatures(const Cloud& object) {
   if (points.empty()) {
     return features;
   }
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3f& p : points) {
-    mean += p.cast<double>();
-  }
-  mean /= static_cast<double>(points.size());
+  const Eigen::Vector3d mean = meanOf(points);
   Eigen::Vector3d variance = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3f& p : points) {
     variance += (p.cast<double>() - mean).cwiseAbs2();

@@ -1,15 +1,17 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "granular_core/dataset/output_folder.h"
+#include "granular_core/dataset/pcd_io.h"
 #include "granular_core/extraction/detections.h"
 #include "granular_core/extraction/extract_folder.h"
-#include "granular_core/io/pcd_io.h"
 
 namespace granular {
 namespace {
@@ -270,14 +272,41 @@ TEST_F(ExtractFolderTest, OneThresholdWritesIntoTheOutputFolder) {
   EXPECT_FALSE(fs::exists(out / "N50"));
 }
 
-TEST_F(ExtractFolderTest, RefusesANonEmptyOutputUnlessOverwrite) {
+TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {
   const fs::path out = root_ / "objects";
   write(out / "keep.txt", "mine");
-  EXPECT_THROW(extractFolder(in_, out, ExtractionConfig()), std::runtime_error);
+  ExtractFolderOptions options;
+  options.output.overwrite = true;
+  try {
+    extractFolder(in_, out, ExtractionConfig(), options);
+    FAIL() << "a folder of the user's files was replaced";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(out.string() + ": output folder holds files that "
+                                             "no granular tool wrote"),
+              std::string::npos)
+        << error.what();
+  }
   EXPECT_EQ(read(out / "keep.txt"), "mine");
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
+
+TEST_F(ExtractFolderTest, ReplacesItsOwnResultsOnlyWithOverwrite) {
+  const fs::path out = root_ / "objects";
+  extractFolder(in_, out, ExtractionConfig());
+  EXPECT_TRUE(fs::exists(out / kManifestName));
+  EXPECT_NE(read(out / kManifestName).find(R"("tool": "extract_objects")"), std::string::npos);
+  try {
+    extractFolder(in_, out, ExtractionConfig());
+    FAIL() << "an earlier result was replaced without overwrite";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("holds results of extract_objects; pass "
+                                             "--overwrite to replace them"),
+              std::string::npos)
+        << error.what();
+  }
 
   ExtractFolderOptions options;
-  options.overwrite = true;
+  options.output.overwrite = true;
   std::size_t progress_calls = 0;
   options.progress = [&](std::size_t done, std::size_t total) {
     ++progress_calls;
@@ -286,9 +315,13 @@ TEST_F(ExtractFolderTest, RefusesANonEmptyOutputUnlessOverwrite) {
   };
   extractFolder(in_, out, ExtractionConfig(), options);
   EXPECT_EQ(progress_calls, 1u);
-  EXPECT_FALSE(fs::exists(out / "keep.txt"));
   EXPECT_TRUE(fs::exists(out / "index.csv"));
-  EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 2);
+  // Beside the input only the output: no staging or set-aside folder.
+  std::set<std::string> entries;
+  for (const fs::directory_entry& entry : fs::directory_iterator(root_)) {
+    entries.insert(entry.path().filename().string());
+  }
+  EXPECT_EQ(entries, (std::set<std::string>{"in", "objects"}));
 }
 
 TEST_F(ExtractFolderTest, AFailureLeavesNoOutput) {
@@ -317,11 +350,6 @@ TEST_F(ExtractFolderTest, RejectsAFolderThatIsNotBagToFiles) {
   EXPECT_THROW(extractFolder(root_ / "empty", root_ / "objects", ExtractionConfig()),
                std::runtime_error);
   EXPECT_FALSE(fs::exists(root_ / "objects"));
-}
-
-TEST(ObjectFileNameTest, FollowsTheReportConvention) {
-  EXPECT_EQ(objectFileName("Hatchback", "1589078382118914", 2), "Hatchback-1589078382118914-2.pcd");
-  EXPECT_EQ(objectFileName("School Bus/2", "1", 1), "School_Bus_2-1-1.pcd");
 }
 
 }  // namespace

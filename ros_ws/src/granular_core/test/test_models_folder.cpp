@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "granular_core/io/pcd_io.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/dataset/object_names.h"
 #include "granular_core/models/build_models.h"
 #include "model_clouds.h"
 
@@ -72,7 +73,6 @@ TEST_F(ModelsFolderTest, ListsObjectsByTheirNamePrefix) {
   EXPECT_EQ(files.at("SUV"), std::vector<fs::path>{objects_ / "SUV-100-2.pcd"});
   EXPECT_EQ(unnamed, std::vector<std::string>{"stray.pcd"});
   EXPECT_EQ(objectClass("BoxTruck-1586102754700816458-1.pcd"), "BoxTruck");
-  EXPECT_EQ(objectClass("-1-1.pcd"), "");
 }
 
 TEST_F(ModelsFolderTest, WritesModelsRawCloudsAndTheirReport) {
@@ -141,15 +141,20 @@ TEST_F(ModelsFolderTest, AClassWithoutObjectsIsReportedNotBuilt) {
                std::runtime_error);
 }
 
-TEST_F(ModelsFolderTest, RefusesANonEmptyOutputUnlessOverwrite) {
+TEST_F(ModelsFolderTest, ReplacesOnlyItsOwnResultsAndOnlyWithOverwrite) {
   fs::create_directories(out_);
   std::ofstream(out_ / "keep.txt") << "mine";
-  EXPECT_THROW(buildModels(objects_, out_, ModelBuildConfig()), std::runtime_error);
-  EXPECT_TRUE(fs::exists(out_ / "keep.txt"));
   BuildModelsOptions options;
-  options.overwrite = true;
+  options.output.overwrite = true;
+  EXPECT_THROW(buildModels(objects_, out_, ModelBuildConfig(), options), std::runtime_error);
+  EXPECT_TRUE(fs::exists(out_ / "keep.txt"));
+  fs::remove(out_ / "keep.txt");
+
+  buildModels(objects_, out_, ModelBuildConfig());
+  EXPECT_THROW(buildModels(objects_, out_, ModelBuildConfig()), std::runtime_error);
+  std::ofstream(out_ / "stale.pcd") << "from the first run";
   buildModels(objects_, out_, ModelBuildConfig(), options);
-  EXPECT_FALSE(fs::exists(out_ / "keep.txt"));
+  EXPECT_FALSE(fs::exists(out_ / "stale.pcd"));
   EXPECT_TRUE(fs::exists(out_ / "Sedan.pcd"));
   // Never over its own input.
   EXPECT_THROW(buildModels(objects_, root_, ModelBuildConfig(), options), std::runtime_error);

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include <granular_core/classification/classify_folder.h>
-#include <granular_core/models/build_models.h>
+#include <granular_core/dataset/object_names.h>
 #include <pcl/console/print.h>
 
 #include "granular_ros/classification_config_yaml.h"

@@ -14,12 +14,9 @@
 
 #include "granular_ros/command_line.h"
 #include "granular_ros/model_config_yaml.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-// Exit statuses, as --help lists them.
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 std::string usage() {
   const granular::ModelBuildConfig defaults;
@@ -80,14 +77,10 @@ struct Options {
   std::map<std::string, std::filesystem::path> seeds;
   bool mesh = false;
   bool overwrite = false;
-  bool help = false;
 };
 
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .flag("--overwrite", options.overwrite)
+void declareOptions(granular_ros::OptionTable& table, Options& options) {
+  table.flag("--overwrite", options.overwrite)
       .flag("--mesh", options.mesh)
       .required("--objects", options.objects)
       .required("--out", options.out)
@@ -107,9 +100,7 @@ Options parseArguments(int argc, char** argv) {
                 if (!options.seeds.emplace(label, seed.substr(separator + 1)).second) {
                   throw std::invalid_argument("--seed: class '" + label + "' given twice");
                 }
-              })
-      .parse(argc, argv);
-  return options;
+              });
 }
 
 // Defaults, then the YAML file, then the command line.
@@ -145,6 +136,9 @@ void reportClass(const granular::ClassModelSummary& summary) {
 
 void printSummary(const granular::BuildModelsSummary& summary,
                   const granular::ModelBuildConfig& config, double seconds) {
+  for (const std::string& line : summary.cleared) {
+    std::fprintf(stderr, "cleared: %s\n", line.c_str());
+  }
   for (const std::string& warning : summary.warnings) {
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
@@ -181,39 +175,27 @@ int main(int argc, char** argv) {
   Options options;
   granular::ModelBuildConfig config;
   granular::BuildModelsOptions run;
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << usage();
-      return 0;
-    }
+  granular_ros::Tool tool("build_models", usage);
+  declareOptions(tool.options(), options);
+  const auto configure = [&] {
     config = buildConfig(options);
     if (options.classes) {
       run.classes = granular_ros::splitList("--classes", *options.classes);
     }
-  } catch (const std::exception& error) {
-    std::cerr << "build_models: " << error.what() << "\n(see build_models --help)\n";
-    return kBadUsage;
-  }
-
-  run.overwrite = options.overwrite;
-  run.mesh = options.mesh;
-  run.seeds = options.seeds;
-  run.progress = [progress = granular_ros::ProgressReport(4)](
-                     const std::string& label, std::size_t done, std::size_t total) mutable {
-    progress(label + " aligning", done, total, "objects");
   };
-  run.class_done = reportClass;
-  try {
+  return tool.run(argc, argv, configure, [&] {
+    run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.mesh = options.mesh;
+    run.seeds = options.seeds;
+    run.progress = [progress = granular_ros::ProgressReport(4)](
+                       const std::string& label, std::size_t done, std::size_t total) mutable {
+      progress(label + " aligning", done, total, "objects");
+    };
+    run.class_done = reportClass;
     const auto start = std::chrono::steady_clock::now();
     const granular::BuildModelsSummary summary =
         granular::buildModels(options.objects, options.out, config, run);
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     printSummary(summary, config, elapsed.count());
-  } catch (const std::exception& error) {
-    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "") << "build_models: " << error.what()
-              << '\n';
-    return kFailed;
-  }
-  return 0;
+  });
 }

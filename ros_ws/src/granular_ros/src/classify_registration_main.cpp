@@ -14,12 +14,9 @@
 
 #include "granular_ros/classification_config_yaml.h"
 #include "granular_ros/command_line.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-// Exit statuses, as --help lists them.
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 std::string usage() {
   const granular::RegistrationClassifierConfig report;
@@ -70,29 +67,7 @@ struct Options {
   std::string preset = "report";
   std::optional<std::string> config_file;
   int threads = 0;
-  bool help = false;
 };
-
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .required("--models", options.models)
-      .required("--objects", options.objects)
-      .required("--method", options.method)
-      .required("--out", options.out)
-      .value("--preset", options.preset)
-      .value("--config", options.config_file)
-      .custom("--threads",
-              [&options](granular_ros::OptionReader& reader) {
-                options.threads = granular_ros::parseNumber<int>("--threads", reader.value());
-                if (options.threads < 1) {
-                  throw std::invalid_argument("--threads: expected at least 1");
-                }
-              })
-      .parse(argc, argv);
-  return options;
-}
 
 // The built-in presets, then the YAML file's, then the one chosen.
 granular::RegistrationClassifierConfig buildConfig(const Options& options) {
@@ -137,12 +112,16 @@ int main(int argc, char** argv) {
   Options options;
   granular::RegistrationClassifierConfig config;
   granular::RegistrationMethod method{};
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << usage();
-      return 0;
-    }
+  granular_ros::Tool tool("classify_registration", usage);
+  tool.options()
+      .required("--models", options.models)
+      .required("--objects", options.objects)
+      .required("--method", options.method)
+      .required("--out", options.out)
+      .value("--preset", options.preset)
+      .value("--config", options.config_file)
+      .threads("--threads", options.threads);
+  const auto configure = [&] {
     const auto parsed = granular::registrationMethodFromName(options.method);
     if (!parsed) {
       throw std::invalid_argument("--method: expected icp, icp_nl or ndt, got '" +
@@ -150,33 +129,22 @@ int main(int argc, char** argv) {
     }
     method = *parsed;
     config = buildConfig(options);
-  } catch (const std::exception& error) {
-    std::cerr << "classify_registration: " << error.what()
-              << "\n(see classify_registration --help)\n";
-    return kBadUsage;
-  }
-
-  // PCL prints a line for every registration that finds too few pairs or no NDT cell; the
-  // results file records those states.
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  granular::ClassifyFolderOptions run_options;
-  run_options.preset = options.preset;
-  run_options.registration.threads = options.threads;
-  run_options.registration.progress =
-      [progress = granular_ros::ProgressReport(), what = std::string(granular::registrationMethodName(method))](
-          std::size_t done, std::size_t total) mutable { progress(what, done, total, "objects"); };
-  run_options.warn = [](const std::string& warning) {
-    std::cerr << "classify_registration: warning: " << warning << '\n';
   };
-  try {
+  return tool.run(argc, argv, configure, [&] {
+    // PCL prints a line for every registration that finds too few pairs or no NDT cell; the
+    // results file records those states.
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    granular::ClassifyFolderOptions run_options;
+    run_options.preset = options.preset;
+    run_options.registration.threads = options.threads;
+    run_options.registration.progress =
+        tool.progress(granular::registrationMethodName(method), "objects");
+    run_options.warn = [](const std::string& warning) {
+      std::cerr << "classify_registration: warning: " << warning << '\n';
+    };
     const granular::ClassificationRun run =
         granular::classifyFolder(options.models, options.objects, method, config, run_options);
     granular::writeClassificationJson(options.out, run);
     printSummary(run);
-  } catch (const std::exception& error) {
-    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "")
-              << "classify_registration: " << error.what() << '\n';
-    return kFailed;
-  }
-  return 0;
+  });
 }

@@ -10,11 +10,9 @@
 
 #include "granular_ros/command_line.h"
 #include "granular_ros/supervised_config_yaml.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 const char* const kUsage =
     "usage: classify_supervised --model MODEL.yml --objects FOLDER --out FILE.json [options]\n"
@@ -43,74 +41,47 @@ struct Options {
   std::string out;
   std::optional<std::string> config_file;
   int threads = 0;
-  bool help = false;
 };
-
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .required("--model", options.model)
-      .required("--objects", options.objects)
-      .required("--out", options.out)
-      .value("--config", options.config_file)
-      .number("--threads", options.threads)
-      .parse(argc, argv);
-  return options;
-}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   Options options;
   std::optional<granular::SupervisedConfig> expected;
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << kUsage;
-      return 0;
-    }
+  granular_ros::Tool tool("classify_supervised", [] { return std::string(kUsage); });
+  tool.options()
+      .required("--model", options.model)
+      .required("--objects", options.objects)
+      .required("--out", options.out)
+      .value("--config", options.config_file)
+      .threads("--threads", options.threads);
+  const auto configure = [&] {
     if (options.config_file) {
       expected.emplace();
       granular_ros::loadSupervisedConfig(*options.config_file, *expected);
       granular::validate(*expected);
     }
-  } catch (const std::exception& error) {
-    std::cerr << "classify_supervised: " << error.what() << "\n(see classify_supervised --help)\n";
-    return kBadUsage;
-  }
-
-  std::optional<granular::SupervisedClassifier> classifier;
-  try {
-    classifier.emplace(granular::SupervisedClassifier::load(options.model));
-  } catch (const std::exception& error) {
-    std::cerr << "classify_supervised: " << error.what() << '\n';
-    return kFailed;
-  }
-  if (expected) {
-    const std::string difference = granular::featureConfigDifference(
-        classifier->method(), classifier->config().histograms, expected->histograms);
-    if (!difference.empty()) {
-      std::cerr << "classify_supervised: " << options.model
-                << " was trained with other feature settings than " << *options.config_file
-                << " (histograms." << difference
-                << "); retrain it, or leave --config out to use the model's own\n";
-      return kBadUsage;
+  };
+  return tool.run(argc, argv, configure, [&] {
+    const granular::SupervisedClassifier classifier =
+        granular::SupervisedClassifier::load(options.model);
+    if (expected) {
+      const std::string difference = granular::featureConfigDifference(
+          classifier.method(), classifier.config().histograms, expected->histograms);
+      if (!difference.empty()) {
+        throw granular_ros::UsageError(
+            options.model + " was trained with other feature settings than " +
+            *options.config_file + " (histograms." + difference +
+            "); retrain it, or leave --config out to use the model's own");
+      }
     }
-  }
-
-  try {
-    const std::string method = granular::supervisedMethodName(classifier->method());
+    const std::string method = granular::supervisedMethodName(classifier.method());
     const granular::SupervisedRun run = granular::classifyFolderSupervised(
-        *classifier, options.objects, options.threads,
-        [progress = granular_ros::ProgressReport(), method](std::size_t done,
-                                                            std::size_t total) mutable {
-          progress(method, done, total, "objects");
-        });
+        classifier, options.objects, options.threads, tool.progress(method, "objects"));
     for (const std::string& warning : run.warnings) {
       std::cerr << "classify_supervised: warning: " << warning << '\n';
     }
-    granular::writeSupervisedJson(options.out, run, *classifier);
+    granular::writeSupervisedJson(options.out, run, classifier);
     std::size_t correct = 0;
     for (std::size_t i = 0; i < run.files.size(); ++i) {
       correct += run.true_labels[i] == run.predicted[i];
@@ -118,10 +89,5 @@ int main(int argc, char** argv) {
     std::printf("%s: %zu objects in %.2f s, %.0f us per object on one core, accuracy %.3f\n",
                 method.c_str(), run.files.size(), run.seconds, run.microseconds_per_object,
                 run.files.empty() ? 0.0 : static_cast<double>(correct) / run.files.size());
-  } catch (const std::exception& error) {
-    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "")
-              << "classify_supervised: " << error.what() << '\n';
-    return kFailed;
-  }
-  return 0;
+  });
 }

@@ -69,6 +69,16 @@ OptionTable& OptionTable::value(const std::string& name, std::optional<std::stri
   return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
 }
 
+OptionTable& OptionTable::threads(const std::string& name, int& field) {
+  return custom(name, [&field, name](OptionReader& reader) {
+    field = parseNumber<int>(name, reader.value());
+    if (field < 1) {
+      throw std::invalid_argument(name + ": expected at least 1 thread, got " +
+                                  std::to_string(field));
+    }
+  });
+}
+
 OptionTable& OptionTable::custom(const std::string& name, Handler handler) {
   handlers_[name] = std::move(handler);
   return *this;

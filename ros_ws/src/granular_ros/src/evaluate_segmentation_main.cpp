@@ -12,7 +12,7 @@
 
 #include <granular_core/extraction/detections.h>
 #include <granular_core/extraction/extract_objects.h>
-#include <granular_core/io/pcd_io.h>
+#include <granular_core/dataset/pcd_io.h>
 #include <granular_core/segmentation/occupancy_segmentation.h>
 
 #include "granular_ros/command_line.h"

@@ -15,12 +15,9 @@
 
 #include "granular_ros/command_line.h"
 #include "granular_ros/extraction_config_yaml.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-// Exit statuses, as --help lists them.
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 // "a,b,c" of a container's values, for --help.
 template <typename T>
@@ -69,23 +66,7 @@ struct Options {
   std::optional<std::string> labels;
   std::optional<std::string> padding;
   bool overwrite = false;
-  bool help = false;
 };
-
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .flag("--overwrite", options.overwrite)
-      .required("--in", options.in)
-      .required("--out", options.out)
-      .value("--config", options.config_file)
-      .value("--n-thresh", options.n_thresh)
-      .value("--labels", options.labels)
-      .value("--padding", options.padding)
-      .parse(argc, argv);
-  return options;
-}
 
 // Defaults, then the YAML file, then the command line.
 granular::ExtractionConfig buildConfig(const Options& options) {
@@ -135,6 +116,7 @@ void reportList(const char* title, const std::vector<std::string>& lines) {
 }
 
 void printSummary(const granular::ExtractFolderSummary& summary, double seconds) {
+  reportList("cleared", summary.cleared);
   reportList("frames skipped", summary.frames_skipped);
   reportList("invalid detections skipped", summary.invalid_detections);
 
@@ -178,35 +160,23 @@ void printSummary(const granular::ExtractFolderSummary& summary, double seconds)
 int main(int argc, char** argv) {
   Options options;
   granular::ExtractionConfig config;
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << usage();
-      return 0;
-    }
-    config = buildConfig(options);
-  } catch (const std::exception& error) {
-    std::cerr << "extract_objects: " << error.what() << "\n(see extract_objects --help)\n";
-    return kBadUsage;
-  }
-
-  granular::ExtractFolderOptions run;
-  run.overwrite = options.overwrite;
-  run.progress = [progress = granular_ros::ProgressReport()](std::size_t done,
-                                                           std::size_t total) mutable {
-    progress("extracting", done, total, "frames");
-  };
-  try {
+  granular_ros::Tool tool("extract_objects", usage);
+  tool.options()
+      .flag("--overwrite", options.overwrite)
+      .required("--in", options.in)
+      .required("--out", options.out)
+      .value("--config", options.config_file)
+      .value("--n-thresh", options.n_thresh)
+      .value("--labels", options.labels)
+      .value("--padding", options.padding);
+  return tool.run(argc, argv, [&] { config = buildConfig(options); }, [&] {
+    granular::ExtractFolderOptions run;
+    run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.progress = tool.progress("extracting", "frames");
     const auto start = std::chrono::steady_clock::now();
     const granular::ExtractFolderSummary summary =
         granular::extractFolder(options.in, options.out, config, run);
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     printSummary(summary, elapsed.count());
-  } catch (const std::exception& error) {
-    // Past a progress line that a terminal leaves unfinished.
-    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "") << "extract_objects: " << error.what()
-              << '\n';
-    return kFailed;
-  }
-  return 0;
+  });
 }

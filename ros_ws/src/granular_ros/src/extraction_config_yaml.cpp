@@ -32,12 +32,16 @@ void loadExtractionConfig(const std::filesystem::path& file, granular::Extractio
             config.n_thresh.push_back(static_cast<std::size_t>(threshold));
           }
         }},
-       {"labels", [&](const std::string& key, const YAML::Node& value) {
+       {"labels",
+        [&](const std::string& key, const YAML::Node& value) {
           config.labels.clear();
           for (std::size_t i = 0; i < reader.sequence(key, value).size(); ++i) {
             config.labels.push_back(
                 reader.text(key + "[" + std::to_string(i) + "]", value[i], "a label"));
           }
+        }},
+       {"max_box_size", [&](const std::string& key, const YAML::Node& value) {
+          config.max_box_size = reader.number(key, value);
         }}});
 }
 

@@ -10,11 +10,9 @@
 
 #include "granular_ros/command_line.h"
 #include "granular_ros/supervised_config_yaml.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 const char* const kUsage =
     "usage: train_classifier --objects FOLDER --method METHOD --out MODEL.yml [options]\n"
@@ -47,21 +45,7 @@ struct Options {
   std::string out;
   std::optional<std::string> config_file;
   int threads = 0;
-  bool help = false;
 };
-
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .required("--objects", options.objects)
-      .required("--method", options.method)
-      .required("--out", options.out)
-      .value("--config", options.config_file)
-      .number("--threads", options.threads)
-      .parse(argc, argv);
-  return options;
-}
 
 }  // namespace
 
@@ -69,12 +53,14 @@ int main(int argc, char** argv) {
   Options options;
   granular::SupervisedConfig config;
   granular::SupervisedMethod method{};
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << kUsage;
-      return 0;
-    }
+  granular_ros::Tool tool("train_classifier", [] { return std::string(kUsage); });
+  tool.options()
+      .required("--objects", options.objects)
+      .required("--method", options.method)
+      .required("--out", options.out)
+      .value("--config", options.config_file)
+      .threads("--threads", options.threads);
+  const auto configure = [&] {
     const auto parsed = granular::supervisedMethodFromName(options.method);
     if (!parsed) {
       throw std::invalid_argument("--method: expected knn, svm or svm_esf, got '" +
@@ -85,17 +71,11 @@ int main(int argc, char** argv) {
       granular_ros::loadSupervisedConfig(*options.config_file, config);
     }
     granular::validate(config);
-  } catch (const std::exception& error) {
-    std::cerr << "train_classifier: " << error.what() << "\n(see train_classifier --help)\n";
-    return kBadUsage;
-  }
-
-  try {
+  };
+  return tool.run(argc, argv, configure, [&] {
     const granular::FolderFeatures features = granular::computeFolderFeatures(
         options.objects, granular::featureKindOf(method), config.histograms, options.threads,
-        [progress = granular_ros::ProgressReport()](std::size_t done, std::size_t total) mutable {
-          progress("features", done, total, "objects");
-        });
+        tool.progress("features", "objects"));
     granular::TrainingSummary summary;
     const granular::SupervisedClassifier classifier = granular::SupervisedClassifier::train(
         method, config, features.features, features.labels, &summary);
@@ -107,10 +87,5 @@ int main(int argc, char** argv) {
                   summary.nu, summary.gamma, summary.grid_points, summary.cross_validation);
     }
     std::printf("\nmodel: %s\n", options.out.c_str());
-  } catch (const std::exception& error) {
-    std::cerr << (granular_ros::ProgressReport::terminal() ? "\n" : "")
-              << "train_classifier: " << error.what() << '\n';
-    return kFailed;
-  }
-  return 0;
+  });
 }

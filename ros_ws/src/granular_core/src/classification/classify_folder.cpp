@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "granular_core/io/atomic_output.h"
-#include "granular_core/models/build_models.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/object_names.h"
 #include "granular_core/models/model_cloud.h"
 
 namespace granular {
@@ -119,7 +119,11 @@ std::vector<LabelledModel> readClassModels(const fs::path& folder) {
   std::sort(files.begin(), files.end());
   std::vector<LabelledModel> models;
   for (const fs::path& file : files) {
-    LabelledModel model{file.stem().string(), readModelPcd(file)};
+    LabelledModel model{modelClass(file), readModelPcd(file)};
+    if (model.label.empty()) {
+      throw std::runtime_error(file.string() + ": not a class model's name (<Class>.pcd, the "
+                                               "class written as build_models writes it)");
+    }
     if (model.cloud.empty()) {
       throw std::runtime_error(file.string() + ": the model has no points");
     }

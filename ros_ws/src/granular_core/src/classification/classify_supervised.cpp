@@ -15,9 +15,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "granular_core/io/atomic_output.h"
-#include "granular_core/io/pcd_io.h"
-#include "granular_core/models/build_models.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/dataset/object_names.h"
 
 namespace granular {
 namespace fs = std::filesystem;

@@ -12,6 +12,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
 
+#include "granular_core/dataset/atomic_file.h"
+
 namespace granular {
 namespace {
 
@@ -384,14 +386,12 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
 
 void SupervisedClassifier::save(const std::filesystem::path& file) const {
   const Impl& impl = *impl_;
-  // OpenCV picks the format from the name, so the temporary name keeps the extension.
-  const std::filesystem::path partial =
-      file.parent_path() / ("." + file.stem().string() + ".partial" + file.extension().string());
+  std::string content;
   try {
-    cv::FileStorage storage(partial.string(), cv::FileStorage::WRITE);
-    if (!storage.isOpened()) {
-      throw std::runtime_error(file.string() + ": cannot write");
-    }
+    // Built in memory, in the format the name asks for, then written through a checked,
+    // flushed temporary file: OpenCV's own writer reports no full disk.
+    cv::FileStorage storage(file.extension().string().empty() ? ".yml" : file.extension().string(),
+                            cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
     storage << "format" << kFormat << "version" << kVersion
             << "method" << supervisedMethodName(impl.method)
             << "features" << featureKindName(featureKindOf(impl.method))
@@ -411,18 +411,11 @@ void SupervisedClassifier::save(const std::filesystem::path& file) const {
     storage << "model" << "{";
     impl.model->write(storage);
     storage << "}";
-    storage.release();
+    content = storage.releaseAndGetString();
   } catch (const cv::Exception& error) {
-    std::error_code ignored;
-    std::filesystem::remove(partial, ignored);
     throw std::runtime_error(file.string() + ": cannot write: " + error.what());
   }
-  std::error_code error;
-  std::filesystem::rename(partial, file, error);
-  if (error) {
-    std::filesystem::remove(partial, error);
-    throw std::runtime_error(file.string() + ": cannot write");
-  }
+  writeFileAtomically(file, content, "classifier");
 }
 
 SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& file) {

@@ -1,10 +1,6 @@
 #include "granular_core/extraction/extract_folder.h"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cctype>
-#include <fstream>
 #include <iomanip>
 #include <optional>
 #include <set>
@@ -14,8 +10,10 @@
 
 #include "granular_core/extraction/detections.h"
 #include "granular_core/extraction/extract_objects.h"
-#include "granular_core/io/atomic_output.h"
-#include "granular_core/io/pcd_io.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/output_folder.h"
+#include "granular_core/dataset/pcd_io.h"
 
 namespace granular {
 namespace {
@@ -65,7 +63,7 @@ std::vector<std::string> pairStamps(const std::set<std::string>& pcd_stamps,
 struct ObjectsFolder {
   std::size_t threshold;
   fs::path path;
-  std::ofstream index;
+  std::ostringstream index;  ///< index.csv, written once complete
 };
 
 std::string csvField(const std::string& text) {
@@ -90,6 +88,14 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
   return row.str();
 }
 
+std::string joined(const std::set<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) {
+    text += (text.empty() ? "" : ", ") + item;
+  }
+  return text;
+}
+
 void linkOrCopy(const fs::path& from, const fs::path& to) {
   std::error_code error;
   fs::create_hard_link(from, to, error);
@@ -98,26 +104,7 @@ void linkOrCopy(const fs::path& from, const fs::path& to) {
   }
 }
 
-// The absolute output path without a trailing separator, so that it has a file name.
-fs::path outputPath(const fs::path& out) {
-  fs::path path = fs::absolute(out).lexically_normal();
-  return path.has_filename() ? path : path.parent_path();
-}
-
 }  // namespace
-
-std::string objectFileName(const std::string& label, const std::string& stamp,
-                           std::size_t label_index) {
-  std::string safe_label = label;
-  for (char& c : safe_label) {
-    const bool plain = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' ||
-                       c == '-';
-    if (!plain) {
-      c = '_';
-    }
-  }
-  return safe_label + "-" + stamp + "-" + std::to_string(label_index) + ".pcd";
-}
 
 ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
                                    const ExtractionConfig& config,
@@ -132,9 +119,6 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
   const std::set<std::string> pcd_stamps = stems(pcd_folder, ".pcd");
   const std::set<std::string> json_stamps = stems(json_folder, ".json");
 
-  const fs::path target = outputPath(out);
-  checkReplaceable(target, options.overwrite);
-
   ExtractFolderSummary summary;
   const std::vector<std::string> stamps =
       pairStamps(pcd_stamps, json_stamps, summary.frames_skipped);
@@ -143,29 +127,32 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
                              ": no PCD in pcd/ has a matching JSON in detections_3d/");
   }
 
-  fs::create_directories(target.parent_path());
-  const std::string suffix = std::to_string(::getpid());
-  StagingFolder staging(target.parent_path() /
-                        ("." + target.filename().string() + ".partial-" + suffix));
+  OutputFolder output(out, "extract_objects", options.output);
+  summary.cleared = output.cleared();
 
   std::vector<ObjectsFolder> folders;
   for (const std::size_t threshold : thresholds) {
-    fs::path path = staging.path();
+    fs::path path = output.staging();
     if (thresholds.size() > 1) {
       path /= "N" + std::to_string(threshold);
       fs::create_directory(path);
     }
     summary.objects.try_emplace(threshold);
-    std::ofstream index(path / "index.csv");
+    std::ostringstream index;
     index << kIndexHeader;
     folders.push_back({threshold, std::move(path), std::move(index)});
   }
 
+  std::set<std::string> seen_labels;  // of every detection, to name them for a label typo
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
     const fs::path json_file = json_folder / (stamp + ".json");
-    const FrameExtraction extraction = extractObjects(
-        readPcd(pcd_folder / (stamp + ".pcd")), readDetectionsJson(json_file), config);
+    const std::vector<Detection> detections = readDetectionsJson(json_file);
+    for (const Detection& detection : detections) {
+      seen_labels.insert(detection.label);
+    }
+    const FrameExtraction extraction =
+        extractObjects(readPcd(pcd_folder / (stamp + ".pcd")), detections, config);
     summary.non_finite_points += extraction.non_finite_points;
     for (const std::string& error : extraction.errors) {
       summary.invalid_detections.push_back(json_file.string() + ": " + error);
@@ -175,8 +162,15 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
       if (object.cloud.size() < thresholds.front()) {
         continue;
       }
-      const std::string name =
-          objectFileName(object.detection.label, stamp, object.label_index);
+      std::string name;
+      try {
+        name = objectFileName(object.detection.label, stamp, object.label_index);
+      } catch (const std::invalid_argument& error) {
+        summary.invalid_detections.push_back(json_file.string() + ": detection id " +
+                                             std::to_string(object.detection.id) + ": " +
+                                             error.what());
+        continue;
+      }
       const std::string row = indexRow(name, object, stamp);
       std::optional<fs::path> written;
       for (ObjectsFolder& folder : folders) {
@@ -200,15 +194,17 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
   }
 
-  for (ObjectsFolder& folder : folders) {
-    folder.index.close();
-    if (!folder.index) {
-      throw std::runtime_error((folder.path / "index.csv").string() + ": write failed");
+  for (const std::string& label : config.labels) {
+    if (seen_labels.count(label) == 0) {
+      summary.warnings.push_back("label '" + label + "' (labels) matches no detection" +
+                                 (seen_labels.empty() ? std::string()
+                                                      : "; labels seen: " + joined(seen_labels)));
     }
   }
-
-  replaceFolder(staging.path(), target, suffix);
-  staging.release();
+  for (ObjectsFolder& folder : folders) {
+    writeFile(folder.path / "index.csv", folder.index.str(), "index");
+  }
+  output.commit();
   return summary;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -52,13 +53,23 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
                                             detection.label) == config.labels.end()) {
       continue;
     }
+    const auto reject = [&](const std::string& why) {
+      result.errors.push_back("detections[" + std::to_string(i) + "] (id " +
+                              std::to_string(detection.id) + ", " + detection.label +
+                              "): " + why);
+    };
     std::optional<OrientedBox> box;
     try {
       box.emplace(detection.centre, detection.orientation, detection.size);
     } catch (const std::invalid_argument& error) {
-      result.errors.push_back("detections[" + std::to_string(i) + "] (id " +
-                              std::to_string(detection.id) + ", " + detection.label +
-                              "): " + error.what());
+      reject(error.what());
+      continue;
+    }
+    if (box->size().maxCoeff() > config.max_box_size) {
+      std::ostringstream size;
+      size << box->size().x() << " x " << box->size().y() << " x " << box->size().z();
+      reject("box of " + size.str() + " m is larger than max_box_size (" +
+             std::to_string(config.max_box_size) + " m); skipped as implausible");
       continue;
     }
     Cloud object = cropToObjectFrame(cloud, *box, config.padding);

@@ -1,6 +1,8 @@
 #include "granular_core/extraction/extraction_config.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <stdexcept>
 
 namespace granular {
@@ -17,6 +19,10 @@ void validate(const ExtractionConfig& config) {
   }
   if (std::find(config.labels.begin(), config.labels.end(), "") != config.labels.end()) {
     throw std::invalid_argument("labels must not contain an empty label");
+  }
+  if (!std::isfinite(config.max_box_size) || config.max_box_size <= 0.0) {
+    throw std::invalid_argument("max_box_size must be positive and finite, got " +
+                                std::to_string(config.max_box_size));
   }
 }
 

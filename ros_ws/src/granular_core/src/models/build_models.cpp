@@ -1,18 +1,16 @@
 #include "granular_core/models/build_models.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
-#include <fstream>
 #include <set>
 #include <stdexcept>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
 
-#include "granular_core/io/atomic_output.h"
-#include "granular_core/io/pcd_io.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/pcd_io.h"
 #include "granular_core/models/concatenate.h"
 #include "granular_core/models/icp_concatenate.h"
 #include "granular_core/models/mesh.h"
@@ -202,63 +200,6 @@ ClassModel buildClassModel(const std::string& label, const std::vector<ModelClou
   return result;
 }
 
-std::string objectClass(const fs::path& file) {
-  const std::string name = file.filename().string();
-  const std::size_t dash = name.find('-');
-  return dash == std::string::npos ? std::string() : name.substr(0, dash);
-}
-
-std::map<std::string, std::vector<fs::path>> listObjectFiles(const fs::path& folder,
-                                                             std::vector<std::string>* unnamed) {
-  if (!fs::is_directory(folder)) {
-    throw std::runtime_error(folder.string() + ": no such objects folder");
-  }
-  std::map<std::string, std::vector<fs::path>> files;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (!entry.is_regular_file() || entry.path().extension() != ".pcd" || name[0] == '.') {
-      continue;
-    }
-    const std::string label = objectClass(entry.path());
-    if (label.empty()) {
-      if (unnamed != nullptr) {
-        unnamed->push_back(name);
-      }
-      continue;
-    }
-    files[label].push_back(entry.path());
-  }
-  for (auto& [label, paths] : files) {
-    std::sort(paths.begin(), paths.end());
-  }
-  if (unnamed != nullptr) {
-    std::sort(unnamed->begin(), unnamed->end());
-  }
-  return files;
-}
-
-std::vector<fs::path> listAllObjectFiles(const fs::path& folder,
-                                         std::map<std::string, std::vector<fs::path>>* by_class) {
-  std::vector<std::string> unnamed;
-  const std::map<std::string, std::vector<fs::path>> classes = listObjectFiles(folder, &unnamed);
-  std::vector<fs::path> files;
-  for (const auto& [label, paths] : classes) {
-    files.insert(files.end(), paths.begin(), paths.end());
-  }
-  for (const std::string& name : unnamed) {
-    files.push_back(folder / name);
-  }
-  if (files.empty()) {
-    throw std::runtime_error(folder.string() +
-                             ": no object PCDs (<Class>-<stamp>-<index>.pcd) in this folder");
-  }
-  std::sort(files.begin(), files.end());
-  if (by_class != nullptr) {
-    *by_class = classes;
-  }
-  return files;
-}
-
 BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
                                const ModelBuildConfig& config,
                                const BuildModelsOptions& options) {
@@ -304,7 +245,7 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
                              ": output folder is or holds the objects folder; refusing to "
                              "replace it");
   }
-  checkReplaceable(target, options.overwrite);
+  checkOutputFolder(target, options.output);
 
   std::map<std::string, ModelCloud> seeds;
   if (config.method == ConcatenationMethod::kIcp) {
@@ -316,13 +257,12 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
     }
   }
 
-  fs::create_directories(target.parent_path());
-  const std::string suffix = std::to_string(::getpid());
-  StagingFolder staging(target.parent_path() /
-                        ("." + target.filename().string() + ".partial-" + suffix));
-  fs::create_directory(staging.path() / "raw");
+  OutputFolder output(target, "build_models", options.output);
+  summary.cleared = output.cleared();
+  const fs::path& staging = output.staging();
+  fs::create_directory(staging / "raw");
   if (options.mesh) {
-    fs::create_directory(staging.path() / "mesh");
+    fs::create_directory(staging / "mesh");
   }
 
   Json classes = Json::object();
@@ -358,12 +298,12 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
 
     const bool written = !model.model.empty();
     if (written) {
-      writeModelPcd(staging.path() / (label + ".pcd"), model.model);
-      writeModelPcd(staging.path() / "raw" / (label + ".pcd"), model.raw);
+      writeModelPcd(staging / modelFileName(label), model.model);
+      writeModelPcd(staging / "raw" / modelFileName(label), model.raw);
       if (options.mesh) {
         const pcl::PolygonMesh mesh = triangulate(model.model, config.mesh);
         result.mesh_polygons = mesh.polygons.size();
-        writeMeshPly(staging.path() / "mesh" / (label + ".ply"), mesh);
+        writeMeshPly(staging / "mesh" / (encodeLabel(label) + ".ply"), mesh);
       }
     }
     classes[label] = classJson(result, paths, config, written, options.mesh);
@@ -376,16 +316,8 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
   Json document = runJson(absolutePath(objects), config, options.mesh);
   document["classes"] = classes;
   document["warnings"] = summary.warnings;
-  const fs::path json_file = staging.path() / "models.json";
-  std::ofstream stream(json_file);
-  stream << document.dump(2) << '\n';
-  stream.close();
-  if (!stream) {
-    throw std::runtime_error(json_file.string() + ": write failed");
-  }
-
-  replaceFolder(staging.path(), target, suffix);
-  staging.release();
+  writeFile(staging / "models.json", document.dump(2) + "\n", "JSON");
+  output.commit();
   return summary;
 }
 

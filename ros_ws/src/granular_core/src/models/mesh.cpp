@@ -9,7 +9,7 @@
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/gp3.h>
 
-#include "granular_core/io/atomic_output.h"
+#include "granular_core/dataset/atomic_file.h"
 
 namespace granular {
 namespace {

@@ -5,8 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "granular_core/io/atomic_output.h"
-#include "granular_core/io/pcd_io.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/pcd_io.h"
 
 namespace granular {
 
@@ -37,7 +37,7 @@ void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud) {
     at += kRecord;
   }
 
-  writeFileAtomically(file, content, "PCD");
+  writeFile(file, content, "PCD");
 }
 
 }  // namespace granular

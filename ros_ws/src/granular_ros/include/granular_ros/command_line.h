@@ -57,6 +57,8 @@ class OptionTable {
   /// A value parsed as a number of T (parseNumber).
   template <typename T>
   OptionTable& number(const std::string& name, T& field);
+  /// A thread count: a whole number of at least 1 (the field's 0 means every core).
+  OptionTable& threads(const std::string& name, int& field);
   /// Any other handling of the current option (reader.value() for its value).
   OptionTable& custom(const std::string& name, Handler handler);
 

@@ -7,14 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "granular_core/dataset/output_folder.h"
 #include "granular_core/extraction/extraction_config.h"
 
 namespace granular {
 
 /// How extractFolder runs, apart from the tunables.
 struct ExtractFolderOptions {
-  /// Replace an output folder that exists and is not empty (otherwise that is an error).
-  bool overwrite = false;
+  /// Whether an output folder of an earlier run may be replaced (see OutputFolder).
+  OutputPolicy output;
   /// Called after each frame with (frames done, frames to do); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
@@ -27,30 +28,30 @@ struct ExtractFolderSummary {
   std::vector<std::string> frames_skipped;
   /// One line per rejected detection, naming its JSON file.
   std::vector<std::string> invalid_detections;
+  /// About the run as a whole, e.g. a requested label that no detection carries.
+  std::vector<std::string> warnings;
   std::size_t non_finite_points = 0;
+  /// What dead runs had left beside `out` and was cleared (OutputFolder::cleared).
+  std::vector<std::string> cleared;
   /// Objects written, per label, for every threshold (sorted, duplicates merged).
   std::map<std::size_t, std::map<std::string, std::size_t>> objects;
 };
 
-/// Name of an object file: `<label>-<stamp>-<label_index>.pcd`, with characters other than
-/// letters, digits, '_', '.' and '-' in the label replaced by '_'.
-std::string objectFileName(const std::string& label, const std::string& stamp,
-                           std::size_t label_index);
-
 /// Extracts every frame of a bag-to-files folder `in` (`in/pcd/<stamp>.pcd` paired with
 /// `in/detections_3d/<stamp>.json`, in stamp order) into objects folders under `out`.
 ///
-/// An objects folder holds the object PCDs (see objectFileName) with at least N_thresh points
+/// An objects folder holds the object PCDs (named by objectFileName) with at least N_thresh points
 /// and an `index.csv` with the columns
 /// `file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad`.
 /// With one threshold `out` is that folder; with several, `out/N<thresh>/` is one per threshold,
 /// all filled in the same pass and sharing files through hard links.
 ///
-/// The result is built in a hidden sibling of `out` and renamed into place at the end, so a
-/// failure leaves `out` as it was. A file without its partner is reported, not fatal. Throws
-/// std::invalid_argument for a bad config and std::runtime_error (naming the file or folder)
-/// for missing input folders, a folder without a single pair, unreadable input files, a
-/// non-empty `out` without options.overwrite, and write failures.
+/// `out` is an OutputFolder: locked, built in a hidden sibling and renamed into place at the
+/// end, so a failure or a signal leaves `out` as it was. A file without its partner is
+/// reported, not fatal. Throws std::invalid_argument for a bad config and std::runtime_error
+/// (naming the file or folder) for missing input folders, a folder without a single pair,
+/// unreadable input files, an `out` that may not be replaced (see checkOutputFolder), and
+/// write failures.
 ExtractFolderSummary extractFolder(const std::filesystem::path& in,
                                    const std::filesystem::path& out,
                                    const ExtractionConfig& config,

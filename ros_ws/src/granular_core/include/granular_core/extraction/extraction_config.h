@@ -19,10 +19,14 @@ struct ExtractionConfig {
   std::vector<std::size_t> n_thresh = {10};
   /// Labels to extract; empty extracts every label.
   std::vector<std::string> labels;
+  /// m; a box longer, wider or higher than this is skipped as implausible (a 1e30 m box from a
+  /// broken detector would turn whole clouds into one object of its class).
+  double max_box_size = 30.0;
 };
 
 /// Throws std::invalid_argument naming the field when padding is negative or not finite,
-/// n_thresh is empty or holds a zero, or a label is empty.
+/// n_thresh is empty or holds a zero, a label is empty, or max_box_size is not positive and
+/// finite.
 void validate(const ExtractionConfig& config);
 
 }  // namespace granular

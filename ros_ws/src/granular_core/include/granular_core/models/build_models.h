@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "granular_core/dataset/output_folder.h"
 #include "granular_core/models/filter_chain.h"
 #include "granular_core/models/model_cloud.h"
 #include "granular_core/models/model_config.h"
@@ -53,27 +54,10 @@ ClassModel buildClassModel(const std::string& label, const std::vector<ModelClou
                            const ModelBuildConfig& config, const ModelCloud* seed = nullptr,
                            const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-/// The class of an object file: its name up to the first '-' (`<Label>-<stamp>-<index>.pcd`);
-/// empty when the name has no '-' or starts with one.
-std::string objectClass(const std::filesystem::path& file);
-
-/// The object PCDs of an objects folder by class, each list sorted by file name. Hidden files
-/// and other extensions are ignored; a PCD whose name has no class goes to `unnamed`, when
-/// given. Throws std::runtime_error when `folder` is not a folder.
-std::map<std::string, std::vector<std::filesystem::path>> listObjectFiles(
-    const std::filesystem::path& folder, std::vector<std::string>* unnamed = nullptr);
-
-/// Every object PCD of an objects folder, those without a class in their name included, in
-/// name order; `by_class`, when given, receives them by class as listObjectFiles gives them.
-/// Throws std::runtime_error naming the folder when it is not a folder or holds no object PCD.
-std::vector<std::filesystem::path> listAllObjectFiles(
-    const std::filesystem::path& folder,
-    std::map<std::string, std::vector<std::filesystem::path>>* by_class = nullptr);
-
 /// How buildModels runs, apart from the tunables.
 struct BuildModelsOptions {
-  /// Replace an output folder that exists and is not empty (otherwise that is an error).
-  bool overwrite = false;
+  /// Whether an output folder of an earlier run may be replaced (see OutputFolder).
+  OutputPolicy output;
   /// Classes to build; empty builds every class of the objects folder.
   std::vector<std::string> classes;
   /// ICP seed PCD by class; classes without one get an automatic seed.
@@ -90,6 +74,7 @@ struct BuildModelsOptions {
 struct BuildModelsSummary {
   std::vector<ClassModelSummary> classes;  ///< in class name order
   std::vector<std::string> warnings;       ///< about the run as a whole
+  std::vector<std::string> cleared;  ///< what dead runs had left and was cleared
 };
 
 /// Builds the model of every class (or of options.classes) of the objects folder `objects`
@@ -103,12 +88,12 @@ struct BuildModelsSummary {
 /// A requested class without objects, or whose filtered model is empty, is reported in the
 /// summary and models.json and gets no files.
 ///
-/// The result is built in a hidden sibling of `out` and renamed into place at the end, so a
-/// failure leaves `out` as it was. Throws std::invalid_argument for a bad config, and
+/// `out` is an OutputFolder: locked, built in a hidden sibling and renamed into place at the
+/// end, so a failure or a signal leaves `out` as it was. Throws std::invalid_argument for a bad config, and
 /// std::runtime_error (naming the file or folder) for a missing objects folder, a folder
 /// without object PCDs, an unreadable object or seed PCD, a seed for a class not built, no
-/// class with objects among those requested, a non-empty `out` without options.overwrite, and
-/// write failures.
+/// class with objects among those requested, an `out` that may not be replaced (see
+/// checkOutputFolder), and write failures.
 BuildModelsSummary buildModels(const std::filesystem::path& objects,
                                const std::filesystem::path& out, const ModelBuildConfig& config,
                                const BuildModelsOptions& options = {});

@@ -23,8 +23,8 @@ ModelCloud toModelCloud(const Cloud& cloud, std::size_t* dropped = nullptr);
 /// its non-finite points. Throws std::runtime_error naming the file.
 ModelCloud readModelPcd(const std::filesystem::path& file);
 
-/// Writes `cloud` as binary PCD with the fields `x y z`, under a temporary name in the same
-/// folder renamed to `file` at the end. Throws std::runtime_error naming the file on failure.
+/// Writes `cloud` as binary PCD with the fields `x y z`, checking every write (writeFile), for
+/// a staging folder. Throws std::runtime_error naming the file on failure.
 void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud);
 
 }  // namespace granular

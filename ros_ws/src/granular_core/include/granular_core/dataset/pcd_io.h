@@ -20,9 +20,9 @@ std::string binaryPcdHeader(const std::string& fields, const std::string& sizes,
                             const std::string& types, const std::string& counts,
                             std::size_t points);
 
-/// Writes `cloud` as binary PCD under a temporary name in the same folder, then renames it to
-/// `file`, so that no reader ever sees a half-written file. Throws std::runtime_error naming the
-/// file on failure.
+/// Writes `cloud` as binary PCD, checking every write (writeFile: a failure removes the file
+/// and throws std::runtime_error naming it). For files inside an OutputFolder's staging folder,
+/// which is put in place as a whole.
 void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud);
 
 }  // namespace granular

@@ -1,4 +1,4 @@
-#include "granular_core/io/pcd_io.h"
+#include "granular_core/dataset/pcd_io.h"
 
 #include <cstring>
 #include <optional>
@@ -8,7 +8,7 @@
 
 #include <pcl/io/pcd_io.h>
 
-#include "granular_core/io/atomic_output.h"
+#include "granular_core/dataset/atomic_file.h"
 
 namespace granular {
 namespace {
@@ -127,7 +127,7 @@ void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud) {
     at += kRecord;
   }
 
-  writeFileAtomically(file, content, "PCD");
+  writeFile(file, content, "PCD");
 }
 
 }  // namespace granular

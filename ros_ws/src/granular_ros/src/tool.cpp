@@ -1,0 +1,99 @@
+#include "granular_ros/tool.h"
+
+#include <pthread.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <thread>
+
+namespace granular_ros {
+
+namespace {
+
+sigset_t stopSignals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGHUP);
+  return signals;
+}
+
+// "NAME: " on a line of its own, past a progress line that a terminal leaves unfinished.
+std::string messagePrefix(const std::string& name) {
+  return (ProgressReport::terminal() ? "\n" : "") + name + ": ";
+}
+
+}  // namespace
+
+void stopCleanlyOnSignals(const std::string& name) {
+  const sigset_t signals = stopSignals();
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([name, signals] {
+    int signal_number = 0;
+    while (sigwait(&signals, &signal_number) != 0) {
+    }
+    const bool removed = !granular::removePendingOutputs().empty();
+    const std::string line = messagePrefix(name) + "interrupted by SIG" +
+                             sigabbrev_np(signal_number) +
+                             (removed ? "; partial output removed\n" : "\n");
+    const ssize_t ignored = ::write(STDERR_FILENO, line.data(), line.size());
+    (void)ignored;
+    // _exit: the other threads are still running, so no destructor or atexit handler may run.
+    ::_exit(128 + signal_number);
+  }).detach();
+}
+
+Tool::Tool(std::string name, std::function<std::string()> usage)
+    : name_(std::move(name)), usage_(std::move(usage)) {
+  options_.help(help_);
+}
+
+int Tool::run(int argc, char** argv, const std::function<void()>& configure,
+              const std::function<void()>& work) {
+  stopCleanlyOnSignals(name_);
+  try {
+    options_.parse(argc, argv);
+    if (help_) {
+      std::cout << usage_();
+      return kExitDone;
+    }
+    configure();
+  } catch (const std::exception& error) {
+    std::cerr << name_ << ": " << error.what() << "\n(see " << name_ << " --help)\n";
+    return kExitBadUsage;
+  }
+  try {
+    work();
+  } catch (const UsageError& error) {
+    std::cerr << messagePrefix(name_) << error.what() << '\n';
+    return kExitBadUsage;
+  } catch (const std::exception& error) {
+    std::cerr << messagePrefix(name_) << error.what() << '\n';
+    return kExitFailed;
+  }
+  return kExitDone;
+}
+
+std::function<void(std::size_t, std::size_t)> Tool::progress(const std::string& what,
+                                                             const std::string& unit,
+                                                             std::size_t lines) const {
+  return [report = ProgressReport(lines), what, unit](std::size_t done, std::size_t total) mutable {
+    report(what, done, total, unit);
+  };
+}
+
+granular::OutputPolicy Tool::outputPolicy(bool overwrite) {
+  granular::OutputPolicy policy;
+  policy.overwrite = overwrite;
+  if (const char* hint = std::getenv("GRANULAR_OVERWRITE_HINT"); hint != nullptr && *hint) {
+    policy.overwrite_hint = hint;
+  }
+  return policy;
+}
+
+}  // namespace granular_ros

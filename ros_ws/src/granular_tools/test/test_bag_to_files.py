@@ -107,13 +107,26 @@ def test_existing_results_are_kept_unless_overwrite(tmp_path, capsys):
     bag = bagmaker.write(tmp_path / "in.bag", [
         (CLOUD_TOPIC, bagmaker.cloud(0.0)), (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
     out = tmp_path / "out"
-    out.mkdir()
-    (out / "older.txt").write_text("older results")
+    assert run(bag, out) == 0
+    (out / "pcd" / "older.pcd").write_text("older results")
     assert run(bag, out) == 1
-    assert "--overwrite" in capsys.readouterr().err
-    assert (out / "older.txt").exists()
+    assert "holds results of bag_to_files; pass --overwrite" in capsys.readouterr().err
+    assert (out / "pcd" / "older.pcd").exists()
     assert run(bag, out, "--overwrite") == 0
-    assert not (out / "older.txt").exists() and len(stems(out, "pcd", ".pcd")) == 1
+    assert not (out / "pcd" / "older.pcd").exists() and len(stems(out, "pcd", ".pcd")) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["in.bag", "out"]
+
+
+def test_a_folder_of_other_files_is_never_replaced(tmp_path, capsys):
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0)), (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "thesis.tex").write_text("years of work")
+    assert run(bag, out, "--overwrite") == 1
+    assert f"{out}: output folder holds files that no granular tool wrote" in \
+        capsys.readouterr().err
+    assert [p.name for p in out.iterdir()] == ["thesis.tex"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["in.bag", "out"]
 
 

@@ -23,7 +23,7 @@ def test_every_model_gets_a_picture_and_the_overview_shows_all(tmp_path):
     write_ascii_pcd(tmp_path / "SchoolBus.pcd", box_surface(11.0, 2.5, 3.1))
     assert pictures.main(["--models", str(tmp_path)]) == 0
     drawn = sorted(p.name for p in (tmp_path / "pictures").iterdir())
-    assert drawn == ["SchoolBus.png", "Sedan.png", "overview.png"]
+    assert drawn == [".granular.json", "SchoolBus.png", "Sedan.png", "overview.png"]
     overview = matplotlib.image.imread(tmp_path / "pictures" / "overview.png")
     sedan = matplotlib.image.imread(tmp_path / "pictures" / "Sedan.png")
     assert overview.shape[0] >= 2 * 2.0 * 110, "a row of 2 inches at 110 dpi per class"

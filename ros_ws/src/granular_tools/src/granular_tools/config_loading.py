@@ -13,6 +13,40 @@ class ConfigError(ValueError):
     """A configuration file or value that cannot be used; the message names file and key."""
 
 
+def bounded(default=dataclasses.MISSING, *, factory=dataclasses.MISSING, above=None,
+            at_least=None, at_most=None, keys=None):
+    """A dataclass field whose loaded value must be > `above`, >= `at_least`, <= `at_most`, and
+    (a mapping) have only `keys`: a value outside is a ConfigError naming the file, the key, the
+    value and the allowed range, instead of a stage that fails later or silently does nothing."""
+    limits = {"above": above, "at_least": at_least, "at_most": at_most, "keys": keys}
+    return dataclasses.field(default=default, default_factory=factory,
+                             metadata={"limits": limits})
+
+
+def _check_limits(value, limits, where):
+    if limits["keys"] is not None:
+        unknown = sorted(set(value) - set(limits["keys"]))
+        if unknown:
+            raise ConfigError(f"{where}: unknown key(s) {', '.join(map(str, unknown))} "
+                              f"(known: {', '.join(limits['keys'])})")
+        return
+    allowed = []
+    if limits["above"] is not None:
+        allowed.append(f"> {limits['above']}")
+    if limits["at_least"] is not None:
+        allowed.append(f">= {limits['at_least']}")
+    if limits["at_most"] is not None:
+        allowed.append(f"<= {limits['at_most']}")
+    values = value if isinstance(value, (list, tuple)) else [value]
+    for item in values:
+        if (limits["above"] is not None and not item > limits["above"]) or \
+                (limits["at_least"] is not None and not item >= limits["at_least"]) or \
+                (limits["at_most"] is not None and not item <= limits["at_most"]) or \
+                (isinstance(item, float) and item != item):
+            raise ConfigError(f"{where}: {value!r} is out of range (allowed: "
+                              f"{' and '.join(allowed)})")
+
+
 def _coerce(value, expected_type, where):
     origin = typing.get_origin(expected_type)
     if dataclasses.is_dataclass(expected_type):
@@ -52,12 +86,16 @@ def _coerce(value, expected_type, where):
 def overlay(defaults, values, where):
     """Return a copy of dataclass `defaults` with `values` (a dict) laid over it."""
     hints = typing.get_type_hints(type(defaults))
+    fields = {field.name: field for field in dataclasses.fields(defaults)}
     changes = {}
     for key, value in values.items():
         if key not in hints:
             known = ", ".join(sorted(hints))
             raise ConfigError(f"{where}: unknown key '{key}' (known keys: {known})")
         changes[key] = _coerce(value, hints[key], f"{where}.{key}")
+        limits = fields[key].metadata.get("limits")
+        if limits:
+            _check_limits(changes[key], limits, f"{where}.{key}")
     return dataclasses.replace(defaults, **changes)
 
 

@@ -3,89 +3,142 @@
 OUT/frames   bag to files (PCD + JSON pairs)
 OUT/objects  per-object clouds in their own frame, one folder N<thresh> per threshold
 OUT/models   one filtered model cloud per class (from OUT/objects/N<models-from>), with pictures
+
+Every argument is checked before the first stage runs; a failing stage stops the run, leaves
+OUT/FAILED naming it, and its exit status is the runner's.
 """
 import argparse
+import dataclasses
 import os
-import subprocess
-import sys
 import time
 
 from . import progress
 from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.frames import OutputError
 from .bag_to_files.offline import BagError, convert_into_new_folder
 from .bag_to_files.pcd import CloudError
 from .config_loading import ConfigError, load_yaml_over
 from .models import pictures
+from .output import OutputError, check_output_folder, claimed_folder, run_main
+from .stages import StageError, existing_file, failure_marker, resolve, run_tool
 
 STAGES = ("frames", "objects", "models")
+STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
 
 
-class StageError(RuntimeError):
-    pass
+@dataclasses.dataclass
+class PipelineRun:
+    """One run's arguments, checked (PipelineRun.checked) before any stage starts."""
+    bag: str
+    out: str
+    stages: tuple = STAGES
+    thresholds: tuple = (10, 50, 100, 300, 500)
+    models_from: int = 10
+    model_method: str = "plain"
+    config_dir: str = None
+    overwrite: bool = False
+
+    @property
+    def objects_folder(self):
+        return os.path.join(self.out, "objects")
+
+    def objects_of(self, threshold):
+        return os.path.join(self.objects_folder, f"N{threshold}")
+
+    def config_file(self, name):
+        """The config file of a stage when a config folder is given and holds it."""
+        path = os.path.join(self.config_dir, name) if self.config_dir else None
+        return path if path and os.path.exists(path) else None
+
+    def checked(self):
+        """Raise StageError("arguments", ...) (exit 2) for anything that would fail later."""
+        def bad(message):
+            return StageError("arguments", message, 2)
+
+        unknown = sorted(set(self.stages) - set(STAGES))
+        if unknown or not self.stages:
+            raise bad(f"unknown stage(s) {', '.join(unknown) or '(none given)'}; stages: "
+                      f"{', '.join(STAGES)}")
+        if not self.thresholds or any(t < 1 for t in self.thresholds):
+            raise bad("n_thresh must be a list of positive whole numbers of points")
+        if "models" in self.stages and self.models_from not in self.thresholds:
+            raise bad(f"models_from {self.models_from} is not one of n_thresh "
+                      f"{','.join(map(str, self.thresholds))}")
+        if self.model_method not in ("plain", "icp"):
+            raise bad(f"model_method must be plain or icp, got '{self.model_method}'")
+        if "frames" in self.stages:
+            existing_file(self.bag, "bag")
+        if self.config_dir and not os.path.isdir(self.config_dir):
+            raise bad(f"config folder {self.config_dir} not found")
+        for stage in self.stages:
+            try:
+                check_output_folder(os.path.join(self.out, STAGE_FOLDERS[stage]), self.overwrite)
+            except OutputError as error:
+                raise bad(str(error)) from error
+        return self
 
 
-def stage_config(config_dir, name):
-    """The config file of a stage when a config folder is given and holds it."""
-    path = os.path.join(config_dir, name) if config_dir else None
-    return path if path and os.path.exists(path) else None
-
-
-def run_tool(command, what):
-    """Run a stage's tool; its own messages reach the user, a failure stops the pipeline."""
-    if subprocess.run(command).returncode != 0:
-        raise StageError(f"{what} failed (its message is above)")
-
-
-def frames_stage(bag, out, config_dir, overwrite):
+def frames_stage(run):
     config = BagToFilesConfig()
-    config_file = stage_config(config_dir, "bag_to_files.yaml")
+    config_file = run.config_file("bag_to_files.yaml")
     if config_file:
         config = load_yaml_over(config, config_file)
     reporter = progress.Reporter("frames", unit="messages")
-    stats = convert_into_new_folder(bag, out, config.check(), overwrite, reporter)
+    try:
+        stats = convert_into_new_folder(run.bag, os.path.join(run.out, "frames"), config.check(),
+                                        run.overwrite, reporter)
+    except (BagError, CloudError, OutputError, ConfigError, ValueError) as error:
+        raise StageError("frames", str(error)) from error
     reporter.finish()
     print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
-def objects_stage(frames, out, thresholds, config_dir, overwrite):
+def objects_stage(run):
     # extract_objects writes one threshold's objects straight into its --out folder, and
     # several thresholds into N<thresh>/ sub-folders; the pipeline always wants the latter.
-    values = [t for t in thresholds.split(",") if t]
-    target = os.path.join(out, f"N{values[0]}") if len(values) == 1 else out
-    command = ["rosrun", "granular_ros", "extract_objects", "--in", frames, "--out", target,
-               "--n-thresh", thresholds]
-    config_file = stage_config(config_dir, "extraction.yaml")
+    thresholds = ",".join(map(str, run.thresholds))
+    target = run.objects_of(run.thresholds[0]) if len(run.thresholds) == 1 \
+        else run.objects_folder
+    command = ["rosrun", "granular_ros", "extract_objects", "--in",
+               os.path.join(run.out, "frames"), "--out", target, "--n-thresh", thresholds]
+    config_file = run.config_file("extraction.yaml")
     command += ["--config", config_file] if config_file else []
-    command += ["--overwrite"] if overwrite else []
-    run_tool(command, "extract_objects")
+    command += ["--overwrite"] if run.overwrite else []
+    run_tool(command, "objects (extract_objects)")
 
 
-def models_stage(objects, out, method, config_dir, overwrite):
-    command = ["rosrun", "granular_ros", "build_models", "--objects", objects, "--out", out,
-               "--method", method]
-    config_file = stage_config(config_dir, "models.yaml")
+def models_stage(run):
+    models = os.path.join(run.out, "models")
+    command = ["rosrun", "granular_ros", "build_models", "--objects",
+               run.objects_of(run.models_from), "--out", models, "--method", run.model_method]
+    config_file = run.config_file("models.yaml")
     command += ["--config", config_file] if config_file else []
-    command += ["--overwrite"] if overwrite else []
-    run_tool(command, "build_models")
-    if pictures.main(["--models", out]) != 0:
-        raise StageError("render_models failed (its message is above)")
+    command += ["--overwrite"] if run.overwrite else []
+    run_tool(command, "models (build_models)")
+    if pictures.render_folder(models, overwrite=True) != 0:
+        raise StageError("models (render_models)", "failed (its message is above)")
 
 
-def run(bag, out, stages=STAGES, thresholds="10,50,100,300,500", models_from=10,
-        model_method="plain", config_dir=None, overwrite=False):
-    out = os.path.abspath(out)
-    os.makedirs(out, exist_ok=True)
-    frames, objects = os.path.join(out, "frames"), os.path.join(out, "objects")
-    if "frames" in stages:
-        frames_stage(bag, frames, config_dir, overwrite)
-    if "objects" in stages:
-        objects_stage(frames, objects, thresholds, config_dir, overwrite)
-    if "models" in stages:
-        if str(models_from) not in thresholds.split(","):
-            raise StageError(f"--models-from {models_from} is not one of --n-thresh {thresholds}")
-        models_stage(os.path.join(objects, f"N{models_from}"), os.path.join(out, "models"),
-                     model_method, config_dir, overwrite)
+def run(pipeline_run):
+    """Run the stages of a PipelineRun into its OUT, which is locked meanwhile."""
+    pipeline_run = pipeline_run.checked()
+    with claimed_folder(pipeline_run.out, "run_pipeline") as out:
+        with failure_marker(out):
+            for stage, action in (("frames", frames_stage), ("objects", objects_stage),
+                                  ("models", models_stage)):
+                if stage in pipeline_run.stages:
+                    action(pipeline_run)
+
+
+def thresholds_from(text):
+    """"10,50" as (10, 50); a StageError (exit 2) naming the text otherwise."""
+    try:
+        values = tuple(int(item) for item in text.split(",") if item.strip())
+    except ValueError:
+        values = ()
+    if not values or any(v < 1 for v in values):
+        raise StageError("arguments", f"n_thresh '{text}' is not a comma-separated list of "
+                                      "positive whole numbers, e.g. 10,50,100", 2)
+    return values
 
 
 def main(argv=None):
@@ -93,7 +146,9 @@ def main(argv=None):
         prog="run_pipeline",
         description="Run granular's stages on a bag, in order: OUT/frames (bag to PCD + JSON "
                     "pairs), OUT/objects/N<thresh> (per-object clouds), OUT/models (class "
-                    "models and their pictures).")
+                    "models and their pictures). Every argument is checked before the first "
+                    "stage; a failing stage stops the run, leaves OUT/FAILED naming it and "
+                    "gives its exit status (2: bad arguments; 130/143: interrupted).")
     parser.add_argument("--bag", required=True)
     parser.add_argument("--out", required=True, help="output folder")
     parser.add_argument("--stages", default=",".join(STAGES),
@@ -102,30 +157,38 @@ def main(argv=None):
     parser.add_argument("--n-thresh", default="10,50,100,300,500", metavar="N,N,...",
                         help="minimum points per object, one objects folder each "
                              "(default: %(default)s)")
-    parser.add_argument("--models-from", type=int, default=10, metavar="N",
+    parser.add_argument("--models-from", default="10", metavar="N",
                         help="build the models from OUT/objects/N<N> (default: %(default)s, "
                              "as the report)")
-    parser.add_argument("--model-method", choices=("plain", "icp"), default="plain",
-                        help="concatenate objects as they are, or ICP-aligned "
+    parser.add_argument("--model-method", default="plain",
+                        help="plain (objects as they are) or icp (ICP-aligned) concatenation "
                              "(default: %(default)s)")
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder with bag_to_files.yaml, extraction.yaml, models.yaml "
                              "(default: the tools' built-in defaults)")
+    parser.add_argument("--relative-to", metavar="FOLDER",
+                        help="resolve relative paths against FOLDER (the launch files pass the "
+                             "folder roslaunch was started from; default: the working folder)")
     parser.add_argument("--overwrite", action="store_true",
-                        help="replace results already in OUT")
+                        help="replace results that granular tools wrote in OUT")
     args = parser.parse_args(argv)
-    stages = [s for s in args.stages.split(",") if s]
-    unknown = sorted(set(stages) - set(STAGES))
-    if unknown:
-        parser.error(f"unknown stage(s) {', '.join(unknown)}; stages: {', '.join(STAGES)}")
     started = time.monotonic()
-    try:
-        run(args.bag, args.out, stages, args.n_thresh, args.models_from, args.model_method,
-            args.config_dir, args.overwrite)
-    except (BagError, CloudError, OutputError, ConfigError, StageError, ValueError,
-            OSError) as error:
-        print(f"run_pipeline: error: {error}", file=sys.stderr)
-        return 1
-    print(f"run_pipeline: done in {time.monotonic() - started:.1f} s; results in "
-          f"{os.path.abspath(args.out)}")
-    return 0
+
+    def body():
+        try:
+            models_from = int(args.models_from)
+        except ValueError:
+            raise StageError("arguments", f"models_from '{args.models_from}' is not a whole "
+                                          "number", 2) from None
+        pipeline_run = PipelineRun(
+            bag=resolve(args.bag, args.relative_to), out=resolve(args.out, args.relative_to),
+            stages=tuple(s for s in args.stages.split(",") if s),
+            thresholds=thresholds_from(args.n_thresh), models_from=models_from,
+            model_method=args.model_method,
+            config_dir=resolve(args.config_dir, args.relative_to), overwrite=args.overwrite)
+        run(pipeline_run)
+        print(f"run_pipeline: done in {time.monotonic() - started:.1f} s; results in "
+              f"{pipeline_run.out}")
+        return 0
+
+    return run_main("run_pipeline", body, (StageError, OSError, ValueError))

@@ -2,20 +2,16 @@
 import json
 import os
 import shutil
-import tempfile
 
 import genpy
 from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3
 from lgsvl_msgs.msg import BoundingBox3D, Detection3D, Detection3DArray
 from std_msgs.msg import Header
 
+from ..output import write_atomically, write_file
 from .pcd import cloud_to_pcd
 
 PCD_FOLDER, JSON_FOLDER = "pcd", "detections_3d"
-
-
-class OutputError(OSError):
-    """An output folder that cannot be used as asked."""
 
 
 def stamp_name(stamp):
@@ -52,47 +48,34 @@ def detections_to_dict(message):
     return {"header": _header(message.header), "detections": detections}
 
 
-def _write_atomically(path, content):
-    folder = os.path.dirname(path)
-    handle, partial = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=folder)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(content)
-        os.replace(partial, path)
-    except BaseException:
-        if os.path.exists(partial):
-            os.remove(partial)
-        raise
-
-
-def prepare_output(folder, overwrite):
-    """Make `folder` ready for pairs; refuse one holding results unless `overwrite`."""
-    if os.path.exists(folder) and not os.path.isdir(folder):
-        raise OutputError(f"{folder}: exists and is not a folder")
-    if os.path.isdir(folder) and os.listdir(folder):
-        if not overwrite:
-            raise OutputError(f"{folder}: already holds results; use --overwrite "
-                              "(or _overwrite:=true) to replace them")
-        for sub in (PCD_FOLDER, JSON_FOLDER):
-            shutil.rmtree(os.path.join(folder, sub), ignore_errors=True)
+def prepare_output(folder):
+    """Empty pcd/ and detections_3d/ in `folder`, whose use the caller has checked (OutputFolder
+    or claimed_folder)."""
     for sub in (PCD_FOLDER, JSON_FOLDER):
+        shutil.rmtree(os.path.join(folder, sub), ignore_errors=True)
         os.makedirs(os.path.join(folder, sub), exist_ok=True)
 
 
 class PairWriter:
-    """Writes one synchronised pair as pcd/<stamp>.pcd and detections_3d/<stamp>.json."""
+    """Writes one synchronised pair as pcd/<stamp>.pcd and detections_3d/<stamp>.json.
 
-    def __init__(self, folder):
+    `staged`: the folder is a staging folder put in place as a whole at the end, so each file
+    is written directly; otherwise (the live node) each file goes through a flushed temporary
+    name, so that a reader never sees half a pair's file.
+    """
+
+    def __init__(self, folder, staged=False):
         self.folder = folder
+        self._write = write_file if staged else write_atomically
 
     def write(self, cloud, detections):
         """Write the pair, named by the cloud's stamp; return that name."""
         name = stamp_name(cloud.header.stamp)
         pcd = cloud_to_pcd(cloud)
         # One line: json's C encoder is used only without indentation (4x faster).
-        text = json.dumps(detections_to_dict(detections)).encode("utf-8")
-        _write_atomically(os.path.join(self.folder, PCD_FOLDER, name + ".pcd"), pcd)
-        _write_atomically(os.path.join(self.folder, JSON_FOLDER, name + ".json"), text)
+        text = json.dumps(detections_to_dict(detections), allow_nan=False).encode("utf-8")
+        self._write(os.path.join(self.folder, PCD_FOLDER, name + ".pcd"), pcd, "PCD")
+        self._write(os.path.join(self.folder, JSON_FOLDER, name + ".json"), text, "JSON")
         return name
 
 

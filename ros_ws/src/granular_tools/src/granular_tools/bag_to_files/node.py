@@ -6,7 +6,8 @@ from lgsvl_msgs.msg import Detection3DArray
 from sensor_msgs.msg import PointCloud2
 
 from .config import BagToFilesConfig
-from .frames import OutputError, PairWriter, prepare_output
+from ..output import OutputError, claimed_folder
+from .frames import PairWriter, prepare_output
 from .pairing import Pairing
 from .pcd import CloudError
 
@@ -23,10 +24,9 @@ def read_config():
 
 
 class BagToFilesNode:
-    def __init__(self):
-        self.out = rospy.get_param("~out")
-        self.config = read_config()
-        prepare_output(self.out, rospy.get_param("~overwrite", False))
+    def __init__(self, out, config):
+        self.out, self.config = out, config
+        prepare_output(self.out)
         writer = PairWriter(self.out)
         self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write)
         self._writer = writer
@@ -71,10 +71,16 @@ class BagToFilesNode:
 def main():
     rospy.init_node("bag_to_files")
     try:
-        node = BagToFilesNode()
-    except (KeyError, ValueError, OutputError) as error:
+        out, config = rospy.get_param("~out"), read_config()
+        overwrite = bool(rospy.get_param("~overwrite", False))
+        with claimed_folder(out, "bag_to_files_node", overwrite, hint="_overwrite:=true"):
+            node = BagToFilesNode(out, config)
+            rospy.spin()
+    except KeyError as error:
+        rospy.logfatal("bag_to_files: missing parameter %s", error)
+        return 1
+    except (ValueError, OutputError) as error:
         rospy.logfatal("bag_to_files: %s", error)
         return 1
-    rospy.spin()
     rospy.loginfo("bag_to_files: %s", node.summary())
     return 1 if node.failed else 0

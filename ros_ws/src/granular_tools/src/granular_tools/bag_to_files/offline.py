@@ -1,11 +1,8 @@
 """bag_to_files: the offline mode, reading a bag directly (no roscore), deterministically."""
 import argparse
 import dataclasses
-import os
-import shutil
 import struct
 import sys
-import tempfile
 import time
 
 import genpy
@@ -14,7 +11,8 @@ from std_msgs.msg import Header
 from .. import progress
 from ..config_loading import ConfigError, load_yaml_over
 from .config import BagToFilesConfig
-from .frames import OutputError, PairWriter, prepare_output
+from ..output import OutputError, OutputFolder, run_main
+from .frames import PairWriter, prepare_output
 from .pairing import Pairing, allow_without_node
 from .pcd import CloudError
 
@@ -60,53 +58,52 @@ def convert(bag_path, folder, config, reporter=None):
     import rosbag  # Imported here so that --help works without ROS on the path.
 
     allow_without_node()
-    writer = PairWriter(folder)
+    writer = PairWriter(folder, staged=True)
     pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load)
-    try:
-        bag = rosbag.Bag(bag_path)
-    except (OSError, rosbag.ROSBagException) as error:
-        raise BagError(f"{bag_path}: cannot read bag: {error}") from error
+    bag = open_bag(bag_path)
     with bag:
         total = check_topics(bag, bag_path, config)
-        # Messages in the order they were recorded, as `rosbag play` would publish them.
-        for done, (topic, (_, raw, _, _, message_class), _) in enumerate(bag.read_messages(
-                topics=[config.cloud_topic, config.detections_topic], raw=True)):
-            message = StampedRaw(raw, message_class)
-            if topic == config.cloud_topic:
-                pairing.add_cloud(message)
-            else:
-                pairing.add_detections(message)
-            if reporter is not None:
-                reporter(done + 1, total)
+        done = 0
+        try:
+            # Messages in the order they were recorded, as `rosbag play` would publish them.
+            for topic, (_, raw, _, _, message_class), _ in bag.read_messages(
+                    topics=[config.cloud_topic, config.detections_topic], raw=True):
+                message = StampedRaw(raw, message_class)
+                if topic == config.cloud_topic:
+                    pairing.add_cloud(message)
+                else:
+                    pairing.add_detections(message)
+                done += 1
+                if reporter is not None:
+                    reporter(done, total)
+        except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
+            raise BagError(f"{bag_path}: corrupt or truncated after {done} of {total} messages: "
+                           f"{error}") from error
     return pairing.stats
 
 
-def convert_into_new_folder(bag_path, out, config, overwrite, reporter=None):
-    """Convert into a temporary sibling of `out` and put it in place only when complete."""
-    out = os.path.abspath(out)
-    parent = os.path.dirname(out)
-    if not os.path.isdir(parent):
-        raise OutputError(f"{out}: folder {parent} does not exist")
-    if os.path.exists(out) and not os.path.isdir(out):
-        raise OutputError(f"{out}: exists and is not a folder")
-    if os.path.isdir(out) and os.listdir(out) and not overwrite:
-        raise OutputError(f"{out}: already holds results; use --overwrite to replace them")
-    staging = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", suffix=".partial",
-                               dir=parent)
+def open_bag(bag_path):
+    """The bag, or a BagError that names it and says what is wrong."""
+    import rosbag
+
     try:
-        prepare_output(staging, overwrite=False)
-        stats = convert(bag_path, staging, config, reporter)
-        if os.path.isdir(out):
-            retired = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", suffix=".old",
-                                       dir=parent)
-            os.replace(out, os.path.join(retired, "previous"))
-            os.replace(staging, out)
-            shutil.rmtree(retired)
-        else:
-            os.replace(staging, out)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+        return rosbag.Bag(bag_path)
+    except rosbag.ROSBagUnindexedException as error:
+        raise BagError(f"{bag_path}: the bag has no index (was its recording cut short?); "
+                       f"'rosbag reindex {bag_path}' may repair it") from error
+    except OSError as error:
+        raise BagError(f"{bag_path}: cannot read bag: {error.strerror or error}") from error
+    except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
+        raise BagError(f"{bag_path}: not a readable bag: {error}") from error
+
+
+def convert_into_new_folder(bag_path, out, config, overwrite, reporter=None):
+    """Convert into a staging sibling of `out`, put in place only when complete (OutputFolder:
+    locked, never replacing a folder that no granular tool wrote)."""
+    with OutputFolder(out, "bag_to_files", overwrite) as folder:
+        prepare_output(folder.staging)
+        stats = convert(bag_path, folder.staging, config, reporter)
+        folder.commit()
     return stats
 
 
@@ -133,7 +130,8 @@ def main(argv=None):
                         help="replace an output folder that already holds results")
     parser.add_argument("--quiet", action="store_true", help="no progress or summary")
     args = parser.parse_args(argv)
-    try:
+
+    def run():
         config = load_yaml_over(defaults, args.config) if args.config else defaults
         overrides = {key: value for key, value in (
             ("cloud_topic", args.cloud_topic), ("detections_topic", args.detections_topic),
@@ -142,11 +140,11 @@ def main(argv=None):
         reporter = None if args.quiet else progress.Reporter("bag to files", unit="messages")
         started = time.monotonic()
         stats = convert_into_new_folder(args.bag, args.out, config, args.overwrite, reporter)
-    except (ConfigError, BagError, CloudError, OutputError, ValueError) as error:
-        print(f"bag_to_files: error: {error}", file=sys.stderr)
-        return 1
-    if not args.quiet:
-        reporter.finish()
-        print(f"bag_to_files: {args.out}: {stats.summary(config.slop)} "
-              f"({time.monotonic() - started:.1f} s)")
-    return 0
+        if not args.quiet:
+            reporter.finish()
+            print(f"bag_to_files: {args.out}: {stats.summary(config.slop)} "
+                  f"({time.monotonic() - started:.1f} s)")
+        return 0
+
+    return run_main("bag_to_files", run, (ConfigError, BagError, CloudError, OutputError,
+                                          ValueError))

@@ -9,9 +9,6 @@ import json
 import os
 import pathlib
 import re
-import shutil
-import sys
-import tempfile
 
 import matplotlib
 
@@ -20,6 +17,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
+from ..labels import object_label  # noqa: E402
+from ..output import OutputFolder, run_main, write_file  # noqa: E402
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
 
 RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
@@ -123,7 +122,9 @@ def plot_feature_distributions(objects_folder, classes, path):
     """Box plots of [mean, std] of x, y, z per class over an objects folder's PCDs."""
     values = {}
     for pcd in sorted(pathlib.Path(objects_folder).glob("*.pcd")):
-        label = pcd.name.split("-", 1)[0]
+        label = object_label(pcd)
+        if label is None:
+            continue
         _, points, _, _ = read_pcd(str(pcd))
         xyz = np.stack([points[a] for a in "xyz"], axis=1).astype(float)
         xyz = xyz[np.all(np.isfinite(xyz), axis=1)]
@@ -182,7 +183,7 @@ def write_index(out, summary, classes, model_pictures):
         if overview.exists():
             relative = os.path.relpath(overview, out)
             lines += ["", "## Class models", "", f"![class models]({relative})"]
-    (pathlib.Path(out) / "index.md").write_text("\n".join(lines) + "\n")
+    write_file(os.path.join(out, "index.md"), ("\n".join(lines) + "\n").encode(), "index")
 
 
 def make_report(results_folder, out, model_pictures=None, feature_objects=None):
@@ -191,12 +192,9 @@ def make_report(results_folder, out, model_pictures=None, feature_objects=None):
     results = {m: {t: load_results(p) for t, p in by_t.items()} for m, by_t in found.items()}
     classes = ordered_classes({r["true_label"] for by_t in results.values()
                                for res in by_t.values() for r in res["objects"]})
-    out = os.path.abspath(out)
-    if os.path.isdir(out) and os.listdir(out) and \
-            not os.path.exists(os.path.join(out, "summary.json")):
-        raise ResultsError(f"{out}: exists and is not a report folder; not replacing it")
-    staging = tempfile.mkdtemp(prefix="." + os.path.basename(out) + ".", dir=os.path.dirname(out))
-    try:
+    # A report replaces the report it regenerates, never a folder of other files.
+    with OutputFolder(out, "make_report", overwrite=True) as folder:
+        staging = folder.staging
         os.makedirs(os.path.join(staging, "confusion"))
         os.makedirs(os.path.join(staging, "precision_recall"))
         summary = {}
@@ -217,15 +215,11 @@ def make_report(results_folder, out, model_pictures=None, feature_objects=None):
         if feature_objects:
             plot_feature_distributions(feature_objects, classes,
                                        os.path.join(staging, "features.png"))
-        with open(os.path.join(staging, "summary.json"), "w", encoding="utf-8") as stream:
-            json.dump({"classes": classes, "methods": summary}, stream, indent=2)
+        write_file(os.path.join(staging, "summary.json"),
+                   json.dumps({"classes": classes, "methods": summary}, indent=2).encode(),
+                   "summary")
         write_index(staging, summary, classes, model_pictures)
-        if os.path.isdir(out):
-            shutil.rmtree(out)
-        os.replace(staging, out)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+        folder.commit()
     return summary
 
 
@@ -243,14 +237,14 @@ def main(argv=None):
                         help="training objects folder whose kNN features (mean and std of x, "
                              "y, z) to picture per class")
     args = parser.parse_args(argv)
-    try:
+
+    def body():
         summary = make_report(args.results, args.out, args.model_pictures, args.feature_objects)
-    except (ResultsError, CloudError, OSError) as error:
-        print(f"make_report: error: {error}", file=sys.stderr)
-        return 1
-    for method, by_threshold in sorted(summary.items()):
-        cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
-                          sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
-        print(f"make_report: {method}: accuracy {cells}")
-    print(f"make_report: {os.path.join(args.out, 'index.md')}")
-    return 0
+        for method, by_threshold in sorted(summary.items()):
+            cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
+                              sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
+            print(f"make_report: {method}: accuracy {cells}")
+        print(f"make_report: {os.path.join(args.out, 'index.md')}")
+        return 0
+
+    return run_main("make_report", body, (ResultsError, CloudError, OSError))

@@ -9,14 +9,12 @@ OUT/report   make_report: summary.json, confusion matrices, plots, index.md
 """
 import argparse
 import os
-import sys
 import time
 
 from .. import pipeline
-from ..bag_to_files.frames import OutputError
-from ..bag_to_files.offline import BagError
 from ..bag_to_files.pcd import CloudError
-from ..config_loading import ConfigError
+from ..output import OutputError, claimed_folder, run_main
+from ..stages import StageError, failure_marker, resolve, run_tool
 from . import report
 from .metrics import ResultsError
 
@@ -30,67 +28,79 @@ def results_name(method, preset):
     return method if preset == "report" else f"{method}_{preset}"
 
 
-def classify(method, models, objects, results_file, preset, config_dir):
-    if method not in REGISTRATION_METHODS:
-        raise pipeline.StageError(f"unknown method {method}; methods: "
-                                  f"{', '.join(REGISTRATION_METHODS)}")
+def classify(method, models, objects, results_file, preset, config_file):
     command = ["rosrun", "granular_ros", "classify_registration", "--models", models,
                "--objects", objects, "--method", method, "--preset", preset,
                "--out", results_file]
-    config_file = pipeline.stage_config(config_dir, "classification.yaml")
     command += ["--config", config_file] if config_file else []
-    pipeline.run_tool(command, f"classify_registration --method {method}")
+    run_tool(command, f"classify_registration --method {method}")
 
 
-def train_and_classify(method, train_objects, test_objects, classifiers, results, thresholds,
-                       config_dir):
+def train_and_classify(method, train_objects, test_run, classifiers, results, config_file):
     """A supervised method: trained once on the train drive, then every test set."""
     model = os.path.join(classifiers, f"{method}.yml")
     command = ["rosrun", "granular_ros", "train_classifier", "--objects", train_objects,
                "--method", method, "--out", model]
-    config_file = pipeline.stage_config(config_dir, "supervised.yaml")
     command += ["--config", config_file] if config_file else []
     print(f"run_evaluation: training {method}", flush=True)
-    pipeline.run_tool(command, f"train_classifier --method {method}")
+    run_tool(command, f"train_classifier --method {method}")
     folder = os.path.join(results, method)
     os.makedirs(folder, exist_ok=True)
-    for threshold in thresholds.split(","):
+    for threshold in test_run.thresholds:
         print(f"run_evaluation: {method} on N_thresh {threshold}", flush=True)
-        pipeline.run_tool(["rosrun", "granular_ros", "classify_supervised", "--model", model,
-                           "--objects", os.path.join(test_objects, f"N{threshold}"),
-                           "--out", os.path.join(folder, f"N{threshold}.json")],
-                          f"classify_supervised ({method})")
+        run_tool(["rosrun", "granular_ros", "classify_supervised", "--model", model,
+                  "--objects", test_run.objects_of(threshold),
+                  "--out", os.path.join(folder, f"N{threshold}.json")],
+                 f"classify_supervised ({method})")
+
+
+def check_methods(methods, supervised, presets):
+    for given, known, what in ((methods, REGISTRATION_METHODS, "method"),
+                               (supervised, SUPERVISED_METHODS, "supervised method"),
+                               (presets, PRESETS, "preset")):
+        unknown = sorted(set(given) - set(known))
+        if unknown:
+            raise StageError("arguments", f"unknown {what}(s) {', '.join(unknown)}; known: "
+                                          f"{', '.join(known)}", 2)
 
 
 def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir, overwrite,
              supervised=SUPERVISED_METHODS):
-    out = os.path.abspath(out)
-    train, test = os.path.join(out, "train"), os.path.join(out, "test")
-    pipeline.run(train_bag, train, pipeline.STAGES, "10", 10, "plain", config_dir, overwrite)
-    pipeline.run(test_bag, test, ("frames", "objects"), thresholds, 10, "plain", config_dir,
-                 overwrite)
-    results = os.path.join(out, "results")
-    for method in methods:
-        for preset in presets:
-            folder = os.path.join(results, results_name(method, preset))
-            os.makedirs(folder, exist_ok=True)
-            for threshold in thresholds.split(","):
-                print(f"run_evaluation: {method} ({preset}) on N_thresh {threshold}", flush=True)
-                classify(method, os.path.join(train, "models"),
-                         os.path.join(test, "objects", f"N{threshold}"),
-                         os.path.join(folder, f"N{threshold}.json"), preset, config_dir)
-    train_objects = os.path.join(train, "objects", "N10")
-    classifiers = os.path.join(out, "classifiers")
-    os.makedirs(classifiers, exist_ok=True)
-    for method in supervised:
-        if method not in SUPERVISED_METHODS:
-            raise pipeline.StageError(f"unknown supervised method {method}; methods: "
-                                      f"{', '.join(SUPERVISED_METHODS)}")
-        train_and_classify(method, train_objects, os.path.join(test, "objects"), classifiers,
-                           results, thresholds, config_dir)
-    return report.make_report(results, os.path.join(out, "report"),
-                              os.path.join(train, "models", "pictures"),
-                              train_objects if "knn" in supervised else None)
+    """Every stage of the evaluation into `out`; every argument checked before the first."""
+    check_methods(methods, supervised, presets)
+    train_run = pipeline.PipelineRun(bag=train_bag, out=os.path.join(out, "train"),
+                                     thresholds=(10,), models_from=10, config_dir=config_dir,
+                                     overwrite=overwrite).checked()
+    test_run = pipeline.PipelineRun(bag=test_bag, out=os.path.join(out, "test"),
+                                    stages=("frames", "objects"), thresholds=thresholds,
+                                    config_dir=config_dir, overwrite=overwrite).checked()
+    with claimed_folder(out, "run_evaluation") as out, failure_marker(out):
+        pipeline.run(train_run)
+        pipeline.run(test_run)
+        results = os.path.join(out, "results")
+        models = os.path.join(train_run.out, "models")
+        for method in methods:
+            for preset in presets:
+                folder = os.path.join(results, results_name(method, preset))
+                os.makedirs(folder, exist_ok=True)
+                for threshold in thresholds:
+                    print(f"run_evaluation: {method} ({preset}) on N_thresh {threshold}",
+                          flush=True)
+                    classify(method, models, test_run.objects_of(threshold),
+                             os.path.join(folder, f"N{threshold}.json"), preset,
+                             test_run.config_file("classification.yaml"))
+        train_objects = train_run.objects_of(10)
+        classifiers = os.path.join(out, "classifiers")
+        os.makedirs(classifiers, exist_ok=True)
+        for method in supervised:
+            train_and_classify(method, train_objects, test_run, classifiers, results,
+                               test_run.config_file("supervised.yaml"))
+        try:
+            return report.make_report(results, os.path.join(out, "report"),
+                                      os.path.join(models, "pictures"),
+                                      train_objects if "knn" in supervised else None)
+        except (ResultsError, CloudError, OutputError) as error:
+            raise StageError("report (make_report)", str(error)) from error
 
 
 def main(argv=None):
@@ -114,22 +124,29 @@ def main(argv=None):
                              "comma-separated; each method runs with each (default: "
                              "%(default)s)")
     parser.add_argument("--config-dir", metavar="FOLDER")
-    parser.add_argument("--overwrite", action="store_true")
+    parser.add_argument("--relative-to", metavar="FOLDER",
+                        help="resolve relative paths against FOLDER (the launch file passes the "
+                             "folder roslaunch was started from; default: the working folder)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace results that granular tools wrote in OUT")
     args = parser.parse_args(argv)
     started = time.monotonic()
-    try:
-        summary = evaluate(args.train_bag, args.test_bag, args.out,
-                           [m for m in args.methods.split(",") if m], args.n_thresh,
-                           [p for p in args.presets.split(",") if p], args.config_dir,
-                           args.overwrite, [m for m in args.supervised.split(",") if m])
-    except (BagError, CloudError, OutputError, ConfigError, ResultsError,
-            pipeline.StageError, ValueError, OSError) as error:
-        print(f"run_evaluation: error: {error}", file=sys.stderr)
-        return 1
-    for method, by_threshold in sorted(summary.items()):
-        cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
-                          sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
-        print(f"run_evaluation: {method}: accuracy {cells}")
-    print(f"run_evaluation: done in {time.monotonic() - started:.1f} s; report: "
-          f"{os.path.join(os.path.abspath(args.out), 'report', 'index.md')}")
-    return 0
+
+    def body():
+        out = resolve(args.out, args.relative_to)
+        summary = evaluate(resolve(args.train_bag, args.relative_to),
+                           resolve(args.test_bag, args.relative_to), out,
+                           [m for m in args.methods.split(",") if m],
+                           pipeline.thresholds_from(args.n_thresh),
+                           [p for p in args.presets.split(",") if p],
+                           resolve(args.config_dir, args.relative_to), args.overwrite,
+                           [m for m in args.supervised.split(",") if m])
+        for method, by_threshold in sorted(summary.items()):
+            cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
+                              sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
+            print(f"run_evaluation: {method}: accuracy {cells}")
+        print(f"run_evaluation: done in {time.monotonic() - started:.1f} s; report: "
+              f"{os.path.join(out, 'report', 'index.md')}")
+        return 0
+
+    return run_main("run_evaluation", body, (StageError, OSError, ValueError))

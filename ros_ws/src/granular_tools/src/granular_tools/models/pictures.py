@@ -5,10 +5,7 @@ views show every class at the same scale: a Sedan's trunk and a Hatchback's flat
 visible side by side.
 """
 import argparse
-import os
 import pathlib
-import sys
-import tempfile
 
 import matplotlib
 
@@ -17,6 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
+from ..labels import encode_label, model_label  # noqa: E402
+from ..output import OutputFolder, run_main, written_atomically  # noqa: E402
 
 # (title, horizontal axis, vertical axis, sign of the horizontal axis)
 FLAT_VIEWS = [("side (from the left)", 0, 2, 1.0), ("rear (from behind)", 1, 2, -1.0),
@@ -60,16 +59,12 @@ def _limits(clouds):
 
 
 def _save(figure, path):
-    """Save to a temporary name and rename, so no half-written picture is left."""
-    handle, partial = tempfile.mkstemp(suffix=".png", dir=os.path.dirname(path))
-    os.close(handle)
+    """Save through a temporary name and a rename, so no half-written picture is left."""
     try:
-        figure.savefig(partial, dpi=110)
-        os.replace(partial, path)
+        with written_atomically(path, "picture") as partial:
+            figure.savefig(partial, dpi=110)
     finally:
         plt.close(figure)
-        if os.path.exists(partial):
-            os.remove(partial)
 
 
 def render_model(name, xyz, path):
@@ -100,6 +95,35 @@ def render_overview(models, path):
     _save(figure, path)
 
 
+def render_folder(models_folder, out=None, overwrite=False):
+    """Draw every model of `models_folder` into `out` (default MODELS/pictures), built as a
+    whole (OutputFolder); returns the exit status, having printed any error."""
+    folder = pathlib.Path(models_folder)
+    out = pathlib.Path(out) if out else folder / "pictures"
+
+    def body():
+        paths = sorted(folder.glob("*.pcd"))
+        if not paths:
+            raise CloudError(f"{folder}: no <Class>.pcd models")
+        unnamed = [path.name for path in paths if model_label(path) is None]
+        if unnamed:
+            raise CloudError(f"{folder}: not class models' names: {', '.join(unnamed)}")
+        models = {model_label(path): load_xyz(path) for path in paths}
+        empty = [name for name, xyz in models.items() if len(xyz) == 0]
+        if empty:
+            raise CloudError(f"{folder}: models without points: {', '.join(empty)}")
+        with OutputFolder(out, "render_models", overwrite) as pictures:
+            staging = pathlib.Path(pictures.staging)
+            for name, xyz in models.items():
+                render_model(name, xyz, str(staging / f"{encode_label(name)}.png"))
+            render_overview(models, str(staging / "overview.png"))
+            pictures.commit()
+        print(f"render_models: {len(models)} models drawn into {out}")
+        return 0
+
+    return run_main("render_models", body, (CloudError, OSError))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="render_models",
@@ -108,24 +132,7 @@ def main(argv=None):
                     "by side into OUT/overview.png.")
     parser.add_argument("--models", required=True, help="folder with <Class>.pcd files")
     parser.add_argument("--out", help="folder for the pictures (default: MODELS/pictures)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace pictures a previous run drew")
     args = parser.parse_args(argv)
-    folder = pathlib.Path(args.models)
-    out = pathlib.Path(args.out) if args.out else folder / "pictures"
-    paths = sorted(folder.glob("*.pcd"))
-    if not paths:
-        print(f"render_models: error: {folder}: no <Class>.pcd models", file=sys.stderr)
-        return 1
-    try:
-        models = {path.stem: load_xyz(path) for path in paths}
-        empty = [name for name, xyz in models.items() if len(xyz) == 0]
-        if empty:
-            raise CloudError(f"{folder}: models without points: {', '.join(empty)}")
-        out.mkdir(parents=True, exist_ok=True)
-        for name, xyz in models.items():
-            render_model(name, xyz, str(out / f"{name}.png"))
-        render_overview(models, str(out / "overview.png"))
-    except (CloudError, OSError) as error:
-        print(f"render_models: error: {error}", file=sys.stderr)
-        return 1
-    print(f"render_models: {len(models)} models drawn into {out}")
-    return 0
+    return render_folder(args.models, args.out, args.overwrite)

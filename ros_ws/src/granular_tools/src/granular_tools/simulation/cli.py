@@ -6,6 +6,7 @@ import time
 
 from .. import progress
 from ..config_loading import ConfigError, load_yaml_over
+from ..output import run_main
 from . import meshes
 from .config import SimulatorConfig
 from .drive import Drive
@@ -68,15 +69,15 @@ def main(argv=None):
         print(f"simulate_drive: error: {error}", file=sys.stderr)
         return 2
 
+    return run_main("simulate_drive", lambda: record(drive, args))
+
+
+def record(drive, args):
     from .recorder import write_bag  # ROS imports only once the arguments are good.
 
     reporter = None if args.quiet else progress.Reporter("simulating", unit="messages")
     started = time.monotonic()
-    try:
-        counts = write_bag(drive, args.out, reporter)
-    except OSError as error:
-        print(f"simulate_drive: error: {error}", file=sys.stderr)
-        return 1
+    counts = write_bag(drive, args.out, reporter)
     elapsed = time.monotonic() - started
     if not args.quiet:
         reporter.finish()

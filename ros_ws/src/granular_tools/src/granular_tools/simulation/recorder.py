@@ -1,7 +1,4 @@
 """ROS messages in the LGSVL simulator's layout, written to a bag atomically."""
-import os
-import tempfile
-
 import genpy
 import numpy as np
 import rosbag
@@ -9,6 +6,8 @@ from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3
 from lgsvl_msgs.msg import BoundingBox3D, Detection3D, Detection3DArray
 from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import Header
+
+from ..output import written_atomically
 
 # The LGSVL LiDAR's point layout: x y z float32, intensity uint8, timestamp float64.
 POINT_DTYPE = np.dtype({"names": ["x", "y", "z", "intensity", "timestamp"],
@@ -54,27 +53,11 @@ def detections_message(detections, stamp, frame_id, seq):
     return message
 
 
-def check_writable(path):
-    """Raise OSError with a clear message if a bag cannot be created at `path`."""
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise OSError(f"{path}: folder {folder} does not exist")
-    if not os.access(folder, os.W_OK):
-        raise OSError(f"{path}: folder {folder} is not writable")
-    if os.path.isdir(path):
-        raise OSError(f"{path}: is a folder")
-
-
 def write_bag(drive, path, progress=None):
     """Write every message of `drive` to `path`; a partial bag never appears under that name."""
-    check_writable(path)
     config = drive.config
-    folder = os.path.dirname(os.path.abspath(path))
-    handle, partial = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".partial",
-                                       dir=folder)
-    os.close(handle)
     counts = {"cloud": 0, "detections": 0}
-    try:
+    with written_atomically(path, "bag") as partial:
         with rosbag.Bag(partial, "w") as bag:
             events = drive.events()
             for done, (t, kind, index) in enumerate(events):
@@ -91,9 +74,4 @@ def write_bag(drive, path, progress=None):
                 counts[kind] += 1
                 if progress is not None:
                     progress(done + 1, len(events), t)
-        os.replace(partial, path)
-    except BaseException:
-        if os.path.exists(partial):
-            os.remove(partial)
-        raise
     return counts

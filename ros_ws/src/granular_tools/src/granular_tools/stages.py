@@ -1,0 +1,87 @@
+"""What the runners that chain tools share (run_pipeline, run_evaluation, run_cuboids): paths as
+the user meant them, each tool run as a stage whose failure stops the run with the tool's exit
+status, a FAILED marker in the output folder, and signals passed on to the running tool."""
+import contextlib
+import os
+import signal
+import subprocess
+
+from .output import Interrupted, OutputError, write_atomically
+
+FAILED_MARKER = "FAILED"
+_CHILD_GRACE = 20.0  # s a tool has to clean up after a forwarded signal before it is killed
+
+
+class StageError(RuntimeError):
+    """A stage that failed; `status` is the exit status the runner returns."""
+
+    def __init__(self, stage, message, status=1):
+        super().__init__(f"{stage}: {message}")
+        self.stage, self.reason, self.status = stage, message, status
+
+
+def resolve(path, relative_to=None):
+    """`path` made absolute against `relative_to` (the folder the user ran roslaunch from,
+    which launch files pass) or the working directory."""
+    if path is None or os.path.isabs(path):
+        return path
+    return os.path.normpath(os.path.join(relative_to or os.getcwd(), path))
+
+
+def existing_file(path, what):
+    """`path` when it is a readable file; a StageError naming it otherwise."""
+    if not os.path.isfile(path):
+        raise StageError("arguments", f"{what} {path} not found"
+                         + (" (it is a folder)" if os.path.isdir(path) else ""), 2)
+    if not os.access(path, os.R_OK):
+        raise StageError("arguments", f"{what} {path} is not readable", 2)
+    return path
+
+
+def run_tool(command, stage):
+    """Run one tool as a stage: its messages reach the user; a failure raises StageError with
+    its exit status. A stop signal is passed on, so that the tool removes its partial output,
+    and then stops this run too."""
+    process = subprocess.Popen(command)
+    try:
+        status = process.wait()
+    except Interrupted as stop:
+        with contextlib.suppress(ProcessLookupError):
+            process.send_signal(stop.signum)
+        try:
+            process.wait(timeout=_CHILD_GRACE)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+        raise
+    if status != 0:
+        if status < 0:
+            status = 128 - status  # killed by a signal
+        raise StageError(stage, f"failed with exit status {status} (its message is above)",
+                         status)
+
+
+@contextlib.contextmanager
+def failure_marker(out):
+    """Removes OUT/FAILED when a run starts; leaves one naming the stage and the reason when it
+    fails, so that half a run's results never look complete."""
+    marker = os.path.join(out, FAILED_MARKER)
+    with contextlib.suppress(FileNotFoundError):
+        os.remove(marker)
+    try:
+        yield
+    except StageError as error:
+        _mark(marker, f"stage: {error.stage}\nreason: {error.reason}\n"
+                      f"exit status: {error.status}\n")
+        raise
+    except Interrupted as stop:
+        _mark(marker, f"reason: interrupted by {signal.Signals(stop.signum).name}\n")
+        raise
+    except Exception as error:  # noqa: BLE001 - every failure leaves the marker, then goes on
+        _mark(marker, f"reason: {error}\n")
+        raise
+
+
+def _mark(marker, text):
+    with contextlib.suppress(OutputError):
+        write_atomically(marker, text.encode(), "failure marker")

@@ -1,5 +1,6 @@
 // build_models: the command-line face of granular::buildModels. Reads options and an optional
 // YAML config, builds one model per class, reports progress on stderr and a table on stdout.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -147,13 +148,18 @@ void printSummary(const granular::BuildModelsSummary& summary,
       granular::FilterStage::kStatisticalOutlier, granular::FilterStage::kVoxelGrid};
   std::printf("models (%s concatenation; points after each filter stage, '-' not run):\n",
               granular::methodName(config.method));
-  std::printf("  %-12s %8s %8s %9s", "class", "objects", "kept", "raw");
+  // The class column as wide as the longest label, so that long real labels keep the table.
+  int width = 12;
+  for (const granular::ClassModelSummary& model : summary.classes) {
+    width = std::max(width, static_cast<int>(model.label.size()));
+  }
+  std::printf("  %-*s %8s %8s %9s", width, "class", "objects", "kept", "raw");
   for (const granular::FilterStage stage : all) {
     std::printf(" %19s", granular::stageName(stage));
   }
   std::printf(" %8s\n", "seconds");
   for (const granular::ClassModelSummary& model : summary.classes) {
-    std::printf("  %-12s %8zu %8zu %9zu", model.label.c_str(), model.objects, model.kept,
+    std::printf("  %-*s %8zu %8zu %9zu", width, model.label.c_str(), model.objects, model.kept,
                 model.raw_points);
     for (const granular::FilterStage stage : all) {
       std::string cell = "-";

@@ -117,6 +117,7 @@ void reportList(const char* title, const std::vector<std::string>& lines) {
 
 void printSummary(const granular::ExtractFolderSummary& summary, double seconds) {
   reportList("cleared", summary.cleared);
+  reportList("warnings", summary.warnings);
   reportList("frames skipped", summary.frames_skipped);
   reportList("invalid detections skipped", summary.invalid_detections);
 
@@ -132,14 +133,19 @@ void printSummary(const granular::ExtractFolderSummary& summary, double seconds)
       by_label[label][threshold] = count;
     }
   }
-  std::printf("objects per label (columns: at least N points):\n  %-16s", "label");
+  // The label column as wide as the longest label, so that long real labels keep the table.
+  int width = 16;
+  for (const auto& [label, counts] : by_label) {
+    width = std::max(width, static_cast<int>(label.size()));
+  }
+  std::printf("objects per label (columns: at least N points):\n  %-*s", width, "label");
   for (const auto& [threshold, labels] : summary.objects) {
     std::printf(" %8s", ("N" + std::to_string(threshold)).c_str());
   }
   std::printf("\n");
   std::map<std::size_t, std::size_t> totals;
   for (const auto& [label, counts] : by_label) {
-    std::printf("  %-16s", label.c_str());
+    std::printf("  %-*s", width, label.c_str());
     for (const auto& [threshold, labels] : summary.objects) {
       const auto count = counts.find(threshold);
       const std::size_t value = count == counts.end() ? 0 : count->second;
@@ -148,7 +154,7 @@ void printSummary(const granular::ExtractFolderSummary& summary, double seconds)
     }
     std::printf("\n");
   }
-  std::printf("  %-16s", "total");
+  std::printf("  %-*s", width, "total");
   for (const auto& [threshold, labels] : summary.objects) {
     std::printf(" %8zu", totals[threshold]);
   }

@@ -3,6 +3,8 @@
 // code as extract_objects), classifies them with a registration or a supervised classifier,
 // and publishes the detections with the predicted labels and rviz markers.
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -48,7 +50,15 @@ T required(const ros::NodeHandle& node, const std::string& name) {
 // The classifier that ~method and ~models name.
 granular::ObjectClassifier makeClassifier(const ros::NodeHandle& node) {
   const std::string method = required<std::string>(node, "method");
-  const std::string models = required<std::string>(node, "models");
+  // A relative path is taken from ~relative_to: roslaunch runs nodes in $ROS_HOME, not where
+  // the user started it.
+  const std::filesystem::path given = required<std::string>(node, "models");
+  const std::string models =
+      (given.is_relative() ? std::filesystem::path(node.param<std::string>("relative_to", ".")) /
+                                 given
+                           : given)
+          .lexically_normal()
+          .string();
   const int threads = node.param("threads", 1);
   if (const auto registration = granular::registrationMethodFromName(method)) {
     std::map<std::string, granular::RegistrationClassifierConfig> presets =
@@ -121,7 +131,9 @@ class OnlineClassifier {
   }
 
   ~OnlineClassifier() {
-    ROS_INFO_STREAM("online_classifier: " << latency_.total());
+    // Plain stdout: roscpp has shut rosconsole down by the time spin() returns on a signal.
+    std::printf("online_classifier: whole run: %s\n", latency_.total().c_str());
+    std::fflush(stdout);
   }
 
  private:

@@ -36,11 +36,13 @@ def detections(t, labels=("Sedan",), seq=0):
     return recorder.detections_message(boxes, stamp(t), "velodyne", seq)
 
 
-def write(path, messages):
-    """messages: (topic, message) in recording order; recorded at their header stamps."""
+def write(path, messages, stamp=None):
+    """messages: (topic, message) in recording order; recorded at their header stamps, or at
+    `stamp` for messages without a header (tf2_msgs/TFMessage)."""
     with rosbag.Bag(str(path), "w") as bag:
         for topic, message in messages:
-            bag.write(topic, message, message.header.stamp)
+            bag.write(topic, message, message.header.stamp if hasattr(message, "header")
+                      else stamp)
     return path
 
 

@@ -1,4 +1,5 @@
 """bag to files, offline mode: pairing policy, file formats, and bad input."""
+import copy
 import json
 
 import numpy as np
@@ -156,3 +157,66 @@ def test_pcd_and_json_read_back_into_the_messages_they_came_from(tmp_path):
     assert [f.name for f in back.fields] == ["x", "y", "z", "intensity", "timestamp"]
     document = json.loads((tmp_path / "out" / "detections_3d" / f"{name}.json").read_text())
     assert dict_to_detections(document) == detections
+
+
+def test_boxes_with_nan_or_infinite_numbers_are_skipped_and_counted(tmp_path, capsys):
+    broken = bagmaker.detections(0.0, ("Sedan", "SUV", "Jeep"))
+    broken.detections[0].bbox.position.position.x = float("nan")
+    broken.detections[1].bbox.size.y = float("inf")
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0)),
+                                               (DETECTIONS_TOPIC, broken)])
+    assert offline.main(["--bag", str(bag), "--out", str(tmp_path / "out")]) == 0
+    assert "detections skipped: 2 a box with NaN or infinite numbers" in capsys.readouterr().out
+    (document,) = [json.loads(p.read_text()) for p in (tmp_path / "out" / "detections_3d").iterdir()]
+    assert [d["label"] for d in document["detections"]] == ["Jeep"]
+
+
+def _static_transform(parent, child, translation, quaternion):
+    from geometry_msgs.msg import TransformStamped
+    from tf2_msgs.msg import TFMessage
+
+    transform = TransformStamped()
+    transform.header.stamp = bagmaker.stamp(0.0)
+    transform.header.frame_id, transform.child_frame_id = parent, child
+    transform.transform.translation.x, transform.transform.translation.y, \
+        transform.transform.translation.z = translation
+    r = transform.transform.rotation
+    r.x, r.y, r.z, r.w = quaternion
+    return TFMessage([transform])
+
+
+def test_detections_in_another_frame_are_moved_into_the_clouds_with_the_bags_tf(tmp_path):
+    elsewhere = bagmaker.detections(0.0, ("Sedan",))
+    elsewhere.header.frame_id = "base_link"
+    elsewhere.detections[0].header.frame_id = "base_link"
+    # base_link -> velodyne: the sensor 1.5 m ahead and turned 90 degrees left.
+    half = np.sqrt(0.5)
+    tf_static = _static_transform("velodyne", "base_link", (0.0, 1.5, 0.0), (0.0, 0.0, half, half))
+    bag = bagmaker.write(tmp_path / "in.bag", [("/tf_static", tf_static),
+                                               (CLOUD_TOPIC, bagmaker.cloud(0.0)),
+                                               (DETECTIONS_TOPIC, elsewhere)],
+                         stamp=bagmaker.stamp(0.0))
+    with_tf = tmp_path / "out"
+    assert run(bag, with_tf) == 0
+    (document,) = [json.loads(p.read_text()) for p in (with_tf / "detections_3d").iterdir()]
+    (box,) = document["detections"]
+    assert box["header"]["frame_id"] == "velodyne"
+    # (5, -1, -1.5) in base_link, turned 90 deg about z: (1, 5, -1.5), then 1.5 m along y.
+    position = box["bbox"]["position"]["position"]
+    assert position == pytest.approx({"x": 1.0, "y": 6.5, "z": -1.5}, abs=1e-9)
+    orientation = box["bbox"]["position"]["orientation"]
+    assert orientation == pytest.approx({"x": 0.0, "y": 0.0, "z": half, "w": half}, abs=1e-9)
+
+
+def test_detections_in_another_frame_without_a_transform_are_skipped_and_counted(tmp_path,
+                                                                                  capsys):
+    elsewhere = bagmaker.detections(0.0, ("Sedan", "SUV"))
+    elsewhere.detections[0].header = copy.deepcopy(elsewhere.detections[0].header)
+    elsewhere.detections[0].header.frame_id = "map"
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0)),
+                                               (DETECTIONS_TOPIC, elsewhere)])
+    assert offline.main(["--bag", str(bag), "--out", str(tmp_path / "out")]) == 0
+    assert "1 in frame 'map' with no transform to the cloud's 'velodyne'" in \
+        capsys.readouterr().out
+    (document,) = [json.loads(p.read_text()) for p in (tmp_path / "out" / "detections_3d").iterdir()]
+    assert [d["label"] for d in document["detections"]] == ["SUV"]

@@ -103,6 +103,12 @@ bool looksBoxCentred(const ModelCloud& cloud) {
 }
 
 std::vector<LabelledModel> readClassModels(const fs::path& folder) {
+  if (fs::is_regular_file(folder)) {
+    throw std::runtime_error(folder.string() + ": is a file (a classifier from "
+                                               "train_classifier?); the registration methods "
+                                               "(icp, icp_nl, ndt) need a models folder written "
+                                               "by build_models");
+  }
   if (!fs::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": no such models folder");
   }

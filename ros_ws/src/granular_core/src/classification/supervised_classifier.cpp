@@ -422,6 +422,10 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
   const auto fail = [&](const std::string& what) -> std::runtime_error {
     return std::runtime_error(file.string() + ": " + what);
   };
+  if (std::filesystem::is_directory(file)) {
+    throw fail("is a folder (class models?); the supervised methods (knn, svm, svm_esf) need a "
+               "classifier file written by train_classifier");
+  }
   if (!std::filesystem::is_regular_file(file)) {
     throw fail("no such classifier file");
   }
@@ -493,8 +497,9 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
     if (!impl.model->isTrained() || impl.model->getVarCount() != static_cast<int>(impl.size())) {
       throw fail("its model is missing or takes another number of features");
     }
-  } catch (const cv::Exception& error) {
-    throw fail(std::string("cannot read: ") + error.what());
+  } catch (const cv::Exception&) {
+    // OpenCV's own text names a parser function, which tells a user nothing.
+    throw fail("not a complete classifier file (cut short, or not written by train_classifier)");
   } catch (const std::invalid_argument& error) {
     throw fail(error.what());
   }

@@ -2,16 +2,19 @@
 import threading
 
 import rospy
+import tf2_ros
 from lgsvl_msgs.msg import Detection3DArray
 from sensor_msgs.msg import PointCloud2
 
 from .config import BagToFilesConfig
 from ..output import OutputError, claimed_folder
+from .detections import DetectionCleaner
 from .frames import PairWriter, prepare_output
 from .pairing import Pairing
 from .pcd import CloudError
 
 SILENCE_WARNING_AFTER = 5.0  # s without a message on a topic before a warning
+TF_WAIT = 0.05  # s a detection waits for its frame's transform before it is skipped
 
 
 def read_config():
@@ -28,7 +31,10 @@ class BagToFilesNode:
         self.out, self.config = out, config
         prepare_output(self.out)
         writer = PairWriter(self.out)
-        self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write)
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write,
+                               cleaner=DetectionCleaner(self._lookup))
         self._writer = writer
         # Both subscriber threads feed one synchroniser; one lock keeps the counts exact.
         self.lock = threading.Lock()
@@ -40,6 +46,16 @@ class BagToFilesNode:
         rospy.loginfo("bag_to_files: writing pairs of %s and %s (slop %.3f s) into %s",
                       self.config.cloud_topic, self.config.detections_topic, self.config.slop,
                       self.out)
+
+    def _lookup(self, target, source, stamp):
+        try:
+            return self.tf_buffer.lookup_transform(target, source, stamp,
+                                                   rospy.Duration(TF_WAIT)).transform
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException):
+            rospy.logwarn_throttle(10.0, f"bag_to_files: no transform from {source} to {target}; "
+                                         "its detections are skipped")
+            return None
 
     def _write(self, cloud, detections):
         try:

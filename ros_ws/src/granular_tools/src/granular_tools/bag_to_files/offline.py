@@ -12,6 +12,7 @@ from .. import progress
 from ..config_loading import ConfigError, load_yaml_over
 from .config import BagToFilesConfig
 from ..output import OutputError, OutputFolder, run_main
+from .detections import DetectionCleaner, bag_transforms
 from .frames import PairWriter, prepare_output
 from .pairing import Pairing, allow_without_node
 from .pcd import CloudError
@@ -59,10 +60,15 @@ def convert(bag_path, folder, config, reporter=None):
 
     allow_without_node()
     writer = PairWriter(folder, staged=True)
-    pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load)
     bag = open_bag(bag_path)
     with bag:
         total = check_topics(bag, bag_path, config)
+        try:
+            cleaner = DetectionCleaner(bag_transforms(bag, bag_path))
+        except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
+            raise BagError(f"{bag_path}: cannot read its /tf: {error}") from error
+        pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load,
+                          cleaner=cleaner)
         done = 0
         try:
             # Messages in the order they were recorded, as `rosbag play` would publish them.

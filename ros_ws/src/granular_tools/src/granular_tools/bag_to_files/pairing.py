@@ -8,6 +8,8 @@ import dataclasses
 import message_filters
 import rospy
 
+from .detections import DetectionCleaner
+
 
 @dataclasses.dataclass
 class PairingStats:
@@ -15,6 +17,7 @@ class PairingStats:
     detection_messages: int = 0
     pairs_kept: int = 0
     pairs_without_detections: int = 0
+    cleaning: str = ""  # what DetectionCleaner skipped or moved, when anything
 
     @property
     def clouds_unpaired(self):
@@ -24,16 +27,19 @@ class PairingStats:
         return (f"clouds read {self.clouds}, detection messages {self.detection_messages}; "
                 f"pairs kept {self.pairs_kept}; dropped: {self.clouds_unpaired} clouds with no "
                 f"detection message within {slop * 1000:.0f} ms, "
-                f"{self.pairs_without_detections} pairs with no detections")
+                f"{self.pairs_without_detections} pairs with no detections"
+                + (f"; {self.cleaning}" if self.cleaning else ""))
 
 
 class Pairing:
     """Counts inputs and forwards each synchronised pair that has detections to `on_pair`."""
 
-    def __init__(self, slop, queue_size, on_pair, load=None):
-        """`load` turns what was added into the message (for lazily read bag messages)."""
+    def __init__(self, slop, queue_size, on_pair, load=None, cleaner=None):
+        """`load` turns what was added into the message (for lazily read bag messages);
+        `cleaner` (DetectionCleaner) keeps each pair's usable detections."""
         self.stats = PairingStats()
         self.on_pair = on_pair
+        self.cleaner = cleaner or DetectionCleaner()
         self.load = load or (lambda message: message)
         self.cloud_input = message_filters.SimpleFilter()
         self.detections_input = message_filters.SimpleFilter()
@@ -51,11 +57,15 @@ class Pairing:
 
     def _on_synchronised(self, cloud, detections):
         detections = self.load(detections)
+        if detections.detections:
+            cloud = self.load(cloud)
+            detections = self.cleaner.clean(cloud.header.frame_id, detections)
+            self.stats.cleaning = self.cleaner.summary()
         if not detections.detections:
             self.stats.pairs_without_detections += 1
             return
         self.stats.pairs_kept += 1
-        self.on_pair(self.load(cloud), detections)
+        self.on_pair(cloud, detections)
 
 
 def allow_without_node():

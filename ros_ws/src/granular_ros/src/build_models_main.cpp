@@ -52,7 +52,8 @@ std::string usage() {
           "                       mesh (the repository's config/models.yaml documents them);\n"
           "                       options above override it\n"
           "  --mesh               also write a triangle mesh of each model\n"
-          "  --overwrite          replace --out when it exists and is not empty\n"
+          "  --overwrite          replace --out when a granular tool wrote it (a folder of other\n"
+          "                       files is never replaced)\n"
           "  --help               print this help and exit\n"
           "\n"
           "Default filter chain: "
@@ -63,9 +64,11 @@ std::string usage() {
        << ", leaf " << chain.voxel_grid.leaf_size
        << " m), with per-class overrides.\n"
           "\n"
-          "Progress goes to stderr, the summary table to stdout. Exit status: 0 done, 1 failed\n"
-          "(unreadable input, no objects, output not writable or not empty), 2 bad option or\n"
-          "configuration.\n";
+          "Progress goes to stderr, the summary table to stdout. --out is built beside itself\n"
+          "and put in place when complete; a second run into it is refused meanwhile. Exit\n"
+          "status: 0 done, 1 failed (unreadable input, no objects, output not writable or\n"
+          "holding results without --overwrite), 2 bad option or configuration, 130/143\n"
+          "interrupted (nothing left half written).\n";
   return text.str();
 }
 

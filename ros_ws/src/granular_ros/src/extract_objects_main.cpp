@@ -37,7 +37,12 @@ std::string usage() {
          "paired with detections_3d/<stamp>.json) and writes each object as a binary PCD in its\n"
          "own frame (origin at the centre of the box's bottom face, x along its length, z up),\n"
          "named <Label>-<stamp>-<index>.pcd (index: 1, 2, ... over that label's detections in\n"
-         "the frame), with an index.csv per objects folder. Needs no roscore.\n"
+         "the frame; in the label every byte but letters, digits, '_' and '.' is written %XX,\n"
+         "so 'Tram_/_Subway' is Tram_%2F_Subway), with an index.csv per objects folder holding\n"
+         "the labels as given. Boxes larger than max_box_size (" +
+         std::to_string(static_cast<int>(defaults.max_box_size)) +
+         " m) are skipped as implausible.\n"
+         "Needs no roscore.\n"
          "\n"
          "options:\n"
          "  --in FOLDER       bag-to-files folder to read\n"
@@ -48,14 +53,18 @@ std::string usage() {
          "  --labels LIST     labels to extract, comma-separated, e.g. Sedan,SUV (default: all)\n"
          "  --padding X,Y,Z   metres added on each side of a box along its length, width and\n"
          "                    height (default " + joinValues(defaults.padding) + ")\n"
-         "  --config FILE     YAML file with padding, n_thresh and labels (the repository's\n"
-         "                    config/extraction.yaml documents them); options above override it\n"
-         "  --overwrite       replace --out when it exists and is not empty\n"
+         "  --config FILE     YAML file with padding, n_thresh, labels and max_box_size (the\n"
+         "                    repository's config/extraction.yaml documents them); options\n"
+         "                    above override it\n"
+         "  --overwrite       replace --out when a granular tool wrote it (a folder of other\n"
+         "                    files is never replaced)\n"
          "  --help            print this help and exit\n"
          "\n"
          "Progress goes to stderr, the summary (objects per label and threshold, frames/s) to\n"
-         "stdout. Exit status: 0 done, 1 extraction failed (unreadable input, output not\n"
-         "writable or not empty), 2 bad option or configuration.\n";
+         "stdout. --out is built beside itself and put in place when complete; a second run\n"
+         "into it is refused meanwhile. Exit status: 0 done, 1 extraction failed (unreadable\n"
+         "input, output not writable or holding results without --overwrite), 2 bad option or\n"
+         "configuration, 130/143 interrupted (nothing left half written).\n";
 }
 
 struct Options {

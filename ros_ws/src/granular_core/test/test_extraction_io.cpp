@@ -164,6 +164,31 @@ TEST_F(PcdIoTest, ReadsAscii) {
   EXPECT_EQ(cloud[1].timestamp, 11.25);
 }
 
+// velodyne_pointcloud's layout (float32 intensity, uint16 ring, float32 time) and an Ouster's
+// (uint16 intensity): the values every stage reads come through; other fields are ignored.
+TEST_F(PcdIoTest, ReadsTheLayoutsOfRealSensors) {
+  const std::string header_end = "WIDTH 2\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 2\nDATA ascii\n";
+  const Cloud velodyne = readPcd(
+      write("velodyne.pcd", "VERSION 0.7\nFIELDS x y z intensity ring time\nSIZE 4 4 4 4 2 4\n"
+                            "TYPE F F F F U F\nCOUNT 1 1 1 1 1 1\n" + header_end +
+                                "1.5 -2 0.25 37.4 12 0.0125\n3 4 5 300 63 0.05\n"));
+  ASSERT_EQ(velodyne.size(), 2u);
+  EXPECT_EQ(velodyne[0].x, 1.5f);
+  EXPECT_EQ(velodyne[0].y, -2.0f);
+  EXPECT_EQ(velodyne[0].z, 0.25f);
+  EXPECT_EQ(velodyne[0].intensity, 37);
+  EXPECT_EQ(velodyne[1].intensity, 255) << "brighter than 255 saturates";
+  EXPECT_DOUBLE_EQ(velodyne[0].timestamp, static_cast<double>(0.0125f));
+  const Cloud ouster =
+      readPcd(write("ouster.pcd", "VERSION 0.7\nFIELDS x y z intensity reflectivity\n"
+                                  "SIZE 8 8 8 2 2\nTYPE F F F U U\nCOUNT 1 1 1 1 1\n" +
+                                      header_end + "1 2 3 12 7\n4 5 6 1000 9\n"));
+  ASSERT_EQ(ouster.size(), 2u);
+  EXPECT_EQ(ouster[1].z, 6.0f);
+  EXPECT_EQ(ouster[0].intensity, 12);
+  EXPECT_EQ(ouster[0].timestamp, 0.0);
+}
+
 TEST_F(PcdIoTest, RejectsCloudsWithoutXyzOrWithWrongTypes) {
   const std::string header_end =
       "WIDTH 1\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 1\nDATA ascii\n";
@@ -177,10 +202,14 @@ TEST_F(PcdIoTest, RejectsCloudsWithoutXyzOrWithWrongTypes) {
     EXPECT_NE(message.find(no_z.string()), std::string::npos) << message;
     EXPECT_NE(message.find("'z'"), std::string::npos) << message;
   }
-  const fs::path float_intensity =
-      write("float_intensity.pcd", "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\n"
-                                   "TYPE F F F F\nCOUNT 1 1 1 1\n" + header_end + "1 2 3 0.5\n");
-  EXPECT_THROW(readPcd(float_intensity), std::runtime_error);
+  const fs::path two_intensities =
+      write("two_intensities.pcd", "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\n"
+                                   "TYPE F F F F\nCOUNT 1 1 1 2\n" + header_end + "1 2 3 0.5 1\n");
+  EXPECT_THROW(readPcd(two_intensities), std::runtime_error);
+  const fs::path integer_x =
+      write("integer_x.pcd", "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE I F F\n"
+                             "COUNT 1 1 1\n" + header_end + "1 2 3\n");
+  EXPECT_THROW(readPcd(integer_x), std::runtime_error);
   EXPECT_THROW(readPcd(write("garbage.pcd", "not a point cloud\n")), std::runtime_error);
   EXPECT_THROW(readPcd(root_ / "absent.pcd"), std::runtime_error);
 }

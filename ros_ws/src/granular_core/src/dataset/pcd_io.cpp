@@ -1,6 +1,10 @@
 #include "granular_core/dataset/pcd_io.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -13,23 +17,53 @@
 namespace granular {
 namespace {
 
-// Byte offset of field `name` in a point record, checked against the type PointXYZIT uses;
-// nullopt when the file has no such field.
-std::optional<std::size_t> fieldOffset(const pcl::PCLPointCloud2& blob, const std::string& name,
-                                       std::uint8_t datatype, const std::filesystem::path& file) {
-  for (const pcl::PCLPointField& field : blob.fields) {
-    if (field.name != name) {
-      continue;
+// Where a scalar field lies in a point record and how it is stored.
+struct ScalarField {
+  std::size_t offset;
+  std::uint8_t datatype;
+};
+
+// The first of `names` the file has, as a scalar of any numeric type; nullopt when it has none.
+// A field of that name holding several values is an error naming it.
+std::optional<ScalarField> scalarField(const pcl::PCLPointCloud2& blob,
+                                       std::initializer_list<const char*> names,
+                                       const std::filesystem::path& file) {
+  for (const char* name : names) {
+    for (const pcl::PCLPointField& field : blob.fields) {
+      if (field.name != name) {
+        continue;
+      }
+      if (field.count != 1 || field.datatype < pcl::PCLPointField::INT8 ||
+          field.datatype > pcl::PCLPointField::FLOAT64) {
+        throw std::runtime_error(file.string() + ": PCD field '" + field.name + "' has type " +
+                                 std::to_string(field.datatype) + " x" +
+                                 std::to_string(field.count) + ", expected one number");
+      }
+      return ScalarField{field.offset, field.datatype};
     }
-    if (field.datatype != datatype || field.count != 1) {
-      throw std::runtime_error(file.string() + ": PCD field '" + name + "' has type " +
-                               std::to_string(field.datatype) + " x" +
-                               std::to_string(field.count) + ", expected type " +
-                               std::to_string(datatype) + " x1");
-    }
-    return field.offset;
   }
   return std::nullopt;
+}
+
+template <typename T>
+double load(const std::uint8_t* at) {
+  T value;
+  std::memcpy(&value, at, sizeof(T));
+  return static_cast<double>(value);
+}
+
+double scalarAt(const std::uint8_t* record, const ScalarField& field) {
+  const std::uint8_t* at = record + field.offset;
+  switch (field.datatype) {
+    case pcl::PCLPointField::INT8: return load<std::int8_t>(at);
+    case pcl::PCLPointField::UINT8: return load<std::uint8_t>(at);
+    case pcl::PCLPointField::INT16: return load<std::int16_t>(at);
+    case pcl::PCLPointField::UINT16: return load<std::uint16_t>(at);
+    case pcl::PCLPointField::INT32: return load<std::int32_t>(at);
+    case pcl::PCLPointField::UINT32: return load<std::uint32_t>(at);
+    case pcl::PCLPointField::FLOAT32: return load<float>(at);
+    default: return load<double>(at);
+  }
 }
 
 }  // namespace
@@ -56,18 +90,21 @@ Cloud readPcd(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": cannot read the PCD data");
   }
 
-  std::size_t xyz[3];
+  ScalarField xyz[3];
   const char* const names[3] = {"x", "y", "z"};
   for (int axis = 0; axis < 3; ++axis) {
-    const auto offset = fieldOffset(blob, names[axis], pcl::PCLPointField::FLOAT32, file);
-    if (!offset) {
-      throw std::runtime_error(file.string() + ": PCD has no '" + names[axis] +
+    const auto field = scalarField(blob, {names[axis]}, file);
+    if (!field || (field->datatype != pcl::PCLPointField::FLOAT32 &&
+                   field->datatype != pcl::PCLPointField::FLOAT64)) {
+      throw std::runtime_error(file.string() + ": PCD has no floating-point '" + names[axis] +
                                "' field; x, y and z are required");
     }
-    xyz[axis] = *offset;
+    xyz[axis] = *field;
   }
-  const auto intensity = fieldOffset(blob, "intensity", pcl::PCLPointField::UINT8, file);
-  const auto timestamp = fieldOffset(blob, "timestamp", pcl::PCLPointField::FLOAT64, file);
+  // The simulator's uint8 intensity, a Velodyne driver's float32 one, an Ouster's uint16;
+  // and the per-point time of each (seconds, float64 or float32).
+  const auto intensity = scalarField(blob, {"intensity"}, file);
+  const auto timestamp = scalarField(blob, {"timestamp", "time"}, file);
 
   if (blob.data.size() < static_cast<std::size_t>(blob.row_step) * blob.height) {
     throw std::runtime_error(file.string() + ": PCD data is shorter than its header says");
@@ -80,14 +117,17 @@ Cloud readPcd(const std::filesystem::path& file) {
     const std::uint8_t* record = blob.data.data() + static_cast<std::size_t>(row) * blob.row_step;
     for (std::uint32_t column = 0; column < blob.width; ++column, record += blob.point_step) {
       PointXYZIT& point = cloud.points[index++];
-      std::memcpy(&point.x, record + xyz[0], sizeof(float));
-      std::memcpy(&point.y, record + xyz[1], sizeof(float));
-      std::memcpy(&point.z, record + xyz[2], sizeof(float));
+      point.x = static_cast<float>(scalarAt(record, xyz[0]));
+      point.y = static_cast<float>(scalarAt(record, xyz[1]));
+      point.z = static_cast<float>(scalarAt(record, xyz[2]));
       if (intensity) {
-        point.intensity = record[*intensity];
+        // 0-255 like the simulator's; brighter returns of other sensors saturate.
+        const double value = scalarAt(record, *intensity);
+        point.intensity = static_cast<std::uint8_t>(
+            std::isfinite(value) ? std::clamp(std::round(value), 0.0, 255.0) : 0.0);
       }
       if (timestamp) {
-        std::memcpy(&point.timestamp, record + *timestamp, sizeof(double));
+        point.timestamp = scalarAt(record, *timestamp);
       }
     }
   }

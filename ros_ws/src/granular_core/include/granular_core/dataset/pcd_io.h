@@ -8,10 +8,13 @@
 
 namespace granular {
 
-/// Reads a PCD file (ascii, binary or binary_compressed) as an unorganised cloud. x, y and z must
-/// be float32 fields; intensity (uint8) and timestamp (float64) are read when present and are 0
-/// when absent. Throws std::runtime_error naming the file when it cannot be read, has no x/y/z
-/// fields, or has a known field of another type.
+/// Reads a PCD file (ascii, binary or binary_compressed) as an unorganised cloud, whatever the
+/// sensor's layout (the simulator's, velodyne_pointcloud's x y z intensity ring time, an
+/// Ouster's): x, y and z must be float32 or float64 fields; intensity, of any numeric type, is
+/// rounded and clamped to 0-255; timestamp (or else time), of any numeric type, is read as
+/// seconds; both are 0 when absent, and other fields are ignored. Throws std::runtime_error
+/// naming the file when it cannot be read, has no x/y/z fields, or has a known field that
+/// holds several values.
 Cloud readPcd(const std::filesystem::path& file);
 
 /// The header of a binary, unorganised PCD file of `points` points whose FIELDS, SIZE, TYPE and

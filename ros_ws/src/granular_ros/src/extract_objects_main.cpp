@@ -50,6 +50,8 @@ std::string usage() {
          "                    complete objects folder N<thresh>/ per threshold\n"
          "  --n-thresh LIST   minimum points per object, comma-separated, e.g. 10,50,100,300,500\n"
          "                    (default " + joinValues(defaults.n_thresh) + ")\n"
+         "  --threshold-folders\n"
+         "                    write N<thresh>/ inside --out even for a single threshold\n"
          "  --labels LIST     labels to extract, comma-separated, e.g. Sedan,SUV (default: all)\n"
          "  --padding X,Y,Z   metres added on each side of a box along its length, width and\n"
          "                    height (default " + joinValues(defaults.padding) + ")\n"
@@ -75,6 +77,7 @@ struct Options {
   std::optional<std::string> labels;
   std::optional<std::string> padding;
   bool overwrite = false;
+  bool threshold_folders = false;
 };
 
 // Defaults, then the YAML file, then the command line.
@@ -178,6 +181,7 @@ int main(int argc, char** argv) {
   granular_ros::Tool tool("extract_objects", usage);
   tool.options()
       .flag("--overwrite", options.overwrite)
+      .flag("--threshold-folders", options.threshold_folders)
       .required("--in", options.in)
       .required("--out", options.out)
       .value("--config", options.config_file)
@@ -187,6 +191,7 @@ int main(int argc, char** argv) {
   return tool.run(argc, argv, [&] { config = buildConfig(options); }, [&] {
     granular::ExtractFolderOptions run;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.threshold_folders = options.threshold_folders;
     run.progress = tool.progress("extracting", "frames");
     const auto start = std::chrono::steady_clock::now();
     const granular::ExtractFolderSummary summary =

@@ -133,7 +133,7 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
   std::vector<ObjectsFolder> folders;
   for (const std::size_t threshold : thresholds) {
     fs::path path = output.staging();
-    if (thresholds.size() > 1) {
+    if (thresholds.size() > 1 || options.threshold_folders) {
       path /= "N" + std::to_string(threshold);
       fs::create_directory(path);
     }

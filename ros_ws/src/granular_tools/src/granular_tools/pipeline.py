@@ -93,13 +93,12 @@ def frames_stage(run):
 
 
 def objects_stage(run):
-    # extract_objects writes one threshold's objects straight into its --out folder, and
-    # several thresholds into N<thresh>/ sub-folders; the pipeline always wants the latter.
+    # OUT/objects holds N<thresh>/ whatever thresholds are given, so that it is always one
+    # folder extract_objects wrote (and may replace).
     thresholds = ",".join(map(str, run.thresholds))
-    target = run.objects_of(run.thresholds[0]) if len(run.thresholds) == 1 \
-        else run.objects_folder
     command = ["rosrun", "granular_ros", "extract_objects", "--in",
-               os.path.join(run.out, "frames"), "--out", target, "--n-thresh", thresholds]
+               os.path.join(run.out, "frames"), "--out", run.objects_folder, "--n-thresh",
+               thresholds, "--threshold-folders"]
     config_file = run.config_file("extraction.yaml")
     command += ["--config", config_file] if config_file else []
     command += ["--overwrite"] if run.overwrite else []

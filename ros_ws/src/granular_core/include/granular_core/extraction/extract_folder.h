@@ -16,6 +16,9 @@ namespace granular {
 struct ExtractFolderOptions {
   /// Whether an output folder of an earlier run may be replaced (see OutputFolder).
   OutputPolicy output;
+  /// Write `out/N<thresh>/` even for a single threshold, so that a run's objects folder has the
+  /// same layout whatever thresholds it was given (run_pipeline).
+  bool threshold_folders = false;
   /// Called after each frame with (frames done, frames to do); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
@@ -43,8 +46,9 @@ struct ExtractFolderSummary {
 /// An objects folder holds the object PCDs (named by objectFileName) with at least N_thresh points
 /// and an `index.csv` with the columns
 /// `file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad`.
-/// With one threshold `out` is that folder; with several, `out/N<thresh>/` is one per threshold,
-/// all filled in the same pass and sharing files through hard links.
+/// With one threshold `out` is that folder (unless options.threshold_folders); with several,
+/// `out/N<thresh>/` is one per threshold, all filled in the same pass and sharing files through
+/// hard links.
 ///
 /// `out` is an OutputFolder: locked, built in a hidden sibling and renamed into place at the
 /// end, so a failure or a signal leaves `out` as it was. A file without its partner is

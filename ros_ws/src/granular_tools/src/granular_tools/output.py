@@ -13,6 +13,7 @@ import contextlib
 import ctypes
 import errno
 import fcntl
+import io
 import json
 import os
 import re
@@ -199,6 +200,14 @@ def write_atomically(path, data, what="file"):
     finally:
         _pending.discard(partial)
     _fsync_folder(os.path.dirname(absolute(path)))
+
+
+def save_figure(figure, path, dpi=100):
+    """Draw a matplotlib figure into `path` (format from its extension) atomically: drawn in
+    memory first, so that a full disk is an OutputError naming `path`, never half a picture."""
+    drawn = io.BytesIO()
+    figure.savefig(drawn, format=os.path.splitext(path)[1][1:] or "png", dpi=dpi)
+    write_atomically(path, drawn.getvalue(), "picture")
 
 
 @contextlib.contextmanager

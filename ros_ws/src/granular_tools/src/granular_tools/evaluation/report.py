@@ -18,7 +18,7 @@ import numpy as np  # noqa: E402
 
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import object_label  # noqa: E402
-from ..output import OutputFolder, run_main, write_file  # noqa: E402
+from ..output import OutputFolder, run_main, save_figure, write_file  # noqa: E402
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
 
 RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
@@ -64,7 +64,7 @@ def plot_confusion(counts, classes, title, path):
     ax.set_ylabel("true (objects)")
     ax.set_title(title, fontsize=10)
     figure.tight_layout()
-    figure.savefig(path, dpi=100)
+    save_figure(figure, path)
     plt.close(figure)
 
 
@@ -88,7 +88,7 @@ def plot_precision_recall(method, by_threshold, classes, path):
     axes.flat[0].legend(fontsize=7)
     figure.suptitle(f"{method}: precision and recall per class against N_thresh", fontsize=10)
     figure.tight_layout()
-    figure.savefig(path, dpi=100)
+    save_figure(figure, path)
     plt.close(figure)
 
 
@@ -105,7 +105,7 @@ def plot_accuracy(summary, path):
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     figure.tight_layout()
-    figure.savefig(path, dpi=100)
+    save_figure(figure, path)
     plt.close(figure)
 
 
@@ -141,7 +141,7 @@ def plot_feature_distributions(objects_folder, classes, path):
         ax.set_title(f"{names[k]} (m)", fontsize=9)
     figure.suptitle("kNN features of the training objects per class", fontsize=10)
     figure.tight_layout()
-    figure.savefig(path, dpi=100)
+    save_figure(figure, path)
     plt.close(figure)
 
 

@@ -15,7 +15,7 @@ import numpy as np  # noqa: E402
 
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import encode_label, model_label  # noqa: E402
-from ..output import OutputFolder, run_main, written_atomically  # noqa: E402
+from ..output import OutputFolder, run_main, save_figure  # noqa: E402
 
 # (title, horizontal axis, vertical axis, sign of the horizontal axis)
 FLAT_VIEWS = [("side (from the left)", 0, 2, 1.0), ("rear (from behind)", 1, 2, -1.0),
@@ -59,10 +59,8 @@ def _limits(clouds):
 
 
 def _save(figure, path):
-    """Save through a temporary name and a rename, so no half-written picture is left."""
     try:
-        with written_atomically(path, "picture") as partial:
-            figure.savefig(partial, dpi=110)
+        save_figure(figure, path, dpi=110)
     finally:
         plt.close(figure)
 

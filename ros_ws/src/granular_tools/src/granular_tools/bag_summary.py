@@ -35,9 +35,9 @@ def points_in_box(xyz, detection):
 
 
 def summarize(path, cloud_topic, detections_topic, slop, out=sys.stdout):
-    import rosbag  # Imported here so that --help works without ROS on the path.
+    from .bags import open_bag  # Imported here so that --help works without ROS on the path.
 
-    with rosbag.Bag(path) as bag:
+    with open_bag(path) as bag:
         info = bag.get_type_and_topic_info()
         print(f"{path}: {bag.get_end_time() - bag.get_start_time():.1f} s, "
               f"{bag.get_message_count()} messages", file=out)

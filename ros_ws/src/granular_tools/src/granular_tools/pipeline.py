@@ -14,8 +14,9 @@ import time
 
 from . import progress
 from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.offline import BagError, convert_into_new_folder
+from .bag_to_files.offline import convert_into_new_folder
 from .bag_to_files.pcd import CloudError
+from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
 from .models import pictures
 from .output import OutputError, check_output_folder, claimed_folder, run_main

@@ -9,6 +9,7 @@ import genpy
 from std_msgs.msg import Header
 
 from .. import progress
+from ..bags import READ_ERRORS, BagError, open_bag
 from ..config_loading import ConfigError, load_yaml_over
 from .config import BagToFilesConfig
 from ..output import OutputError, OutputFolder, run_main
@@ -16,10 +17,6 @@ from .detections import DetectionCleaner, bag_transforms
 from .frames import PairWriter, prepare_output
 from .pairing import Pairing, allow_without_node
 from .pcd import CloudError
-
-
-class BagError(ValueError):
-    """A bag that cannot be converted; the message names the bag and what is wrong."""
 
 
 class StampedRaw:
@@ -56,8 +53,6 @@ def check_topics(bag, path, config):
 
 def convert(bag_path, folder, config, reporter=None):
     """Write every kept pair of `bag_path` into `folder` (which must be ready); return stats."""
-    import rosbag  # Imported here so that --help works without ROS on the path.
-
     allow_without_node()
     writer = PairWriter(folder, staged=True)
     bag = open_bag(bag_path)
@@ -65,7 +60,7 @@ def convert(bag_path, folder, config, reporter=None):
         total = check_topics(bag, bag_path, config)
         try:
             cleaner = DetectionCleaner(bag_transforms(bag, bag_path))
-        except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
+        except READ_ERRORS as error:
             raise BagError(f"{bag_path}: cannot read its /tf: {error}") from error
         pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load,
                           cleaner=cleaner)
@@ -82,25 +77,10 @@ def convert(bag_path, folder, config, reporter=None):
                 done += 1
                 if reporter is not None:
                     reporter(done, total)
-        except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
+        except READ_ERRORS as error:
             raise BagError(f"{bag_path}: corrupt or truncated after {done} of {total} messages: "
                            f"{error}") from error
     return pairing.stats
-
-
-def open_bag(bag_path):
-    """The bag, or a BagError that names it and says what is wrong."""
-    import rosbag
-
-    try:
-        return rosbag.Bag(bag_path)
-    except rosbag.ROSBagUnindexedException as error:
-        raise BagError(f"{bag_path}: the bag has no index (was its recording cut short?); "
-                       f"'rosbag reindex {bag_path}' may repair it") from error
-    except OSError as error:
-        raise BagError(f"{bag_path}: cannot read bag: {error.strerror or error}") from error
-    except (rosbag.ROSBagException, genpy.DeserializationError, struct.error) as error:
-        raise BagError(f"{bag_path}: not a readable bag: {error}") from error
 
 
 def convert_into_new_folder(bag_path, out, config, overwrite, reporter=None):

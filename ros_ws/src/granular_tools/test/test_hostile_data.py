@@ -1,0 +1,349 @@
+"""Hostile inputs, real-world data: free-text labels that must survive every stage, broken or
+implausible boxes, broken bags and configs. Each case runs the built tools as a user would and
+asserts the exit status, a message naming the culprit and that nothing crashed."""
+import json
+import os
+
+import numpy as np
+import pytest
+import rosbag
+
+import bagmaker
+import hostile
+from bagmaker import CLOUD_TOPIC, DETECTIONS_TOPIC
+from hostile import assert_fails_clearly, assert_no_crash, leftovers, run, tool
+from granular_tools.simulation import recorder
+from granular_tools.simulation.scene import Detection
+
+EXTRACT = tool("granular_ros", "extract_objects")
+BUILD_MODELS = tool("granular_ros", "build_models")
+TRAIN = tool("granular_ros", "train_classifier")
+CLASSIFY_REGISTRATION = tool("granular_ros", "classify_registration")
+CLASSIFY_SUPERVISED = tool("granular_ros", "classify_supervised")
+BAG_TO_FILES = tool("granular_tools", "bag_to_files")
+SIMULATE = tool("granular_tools", "simulate_drive")
+MAKE_REPORT = tool("granular_tools", "make_report")
+
+# Labels as real datasets and users write them (PandaSet's, and typed ones).
+FREE_TEXT_LABELS = ["Medium-sized_Truck", "Tram_/_Subway", "Other_Vehicle_-_Pedicab",
+                    "Other_Vehicle_-_Uncommon", "Straßenbahn Linie 3", ".dotted", "Sedan"]
+
+
+def boxes_and_points(labels, rng):
+    """A box per label, 6 m apart along y, and 150 points on each box's surface."""
+    detections, points = [], []
+    for index, label in enumerate(labels):
+        centre = np.array([12.0, 6.0 * (index - len(labels) / 2.0), -0.8])
+        size = np.array([4.0, 1.8, 1.5])
+        detections.append(Detection(200 + index, label, centre, (0.0, 0.0, 0.0, 1.0), size, 0.0))
+        local = rng.uniform(-0.5, 0.5, size=(150, 3)) * size * 0.95
+        points.append(centre + local)
+    return detections, np.vstack(points)
+
+
+def free_text_bag(path, labels=FREE_TEXT_LABELS, frames=6):
+    rng = np.random.default_rng(5)
+    messages = []
+    for frame in range(frames):
+        detections, points = boxes_and_points(labels, rng)
+        stamp = bagmaker.stamp(0.1 * frame)
+        messages.append((CLOUD_TOPIC, bagmaker.cloud(0.1 * frame, points, frame)))
+        messages.append((DETECTIONS_TOPIC,
+                         recorder.detections_message(detections, stamp, "velodyne", frame)))
+    return bagmaker.write(path, messages)
+
+
+@pytest.fixture(scope="module")
+def free_text(tmp_path_factory):
+    """The free-text labels taken from a bag through frames, objects and models."""
+    folder = tmp_path_factory.mktemp("labels")
+    bag = free_text_bag(folder / "labels.bag")
+    for command in (BAG_TO_FILES + ["--bag", bag, "--out", folder / "frames", "--quiet"],
+                    EXTRACT + ["--in", folder / "frames", "--out", folder / "objects"],
+                    BUILD_MODELS + ["--objects", folder / "objects", "--out", folder / "models"]):
+        result = run(command)
+        assert result.status == 0, str(result)
+    return folder
+
+
+# --- free-text labels round-trip through every stage ---------------------------------------
+
+def test_free_text_labels_reach_the_frames_json_exactly(free_text):
+    labels = set()
+    for path in (free_text / "frames" / "detections_3d").iterdir():
+        labels |= {d["label"] for d in json.loads(path.read_text(encoding="utf-8"))["detections"]}
+    assert labels == set(FREE_TEXT_LABELS)
+
+
+def test_every_free_text_label_gets_its_own_visible_object_files(free_text):
+    names = os.listdir(free_text / "objects")
+    assert not [name for name in names if name.startswith(".") and name != ".granular.json"]
+    index = (free_text / "objects" / "index.csv").read_text(encoding="utf-8").splitlines()[1:]
+    # The labels column holds the label as given, however the file name encodes it.
+    import csv
+    rows = list(csv.DictReader([(free_text / "objects" / "index.csv").read_text(
+        encoding="utf-8").splitlines()[0]] + index))
+    assert {row["label"] for row in rows} == set(FREE_TEXT_LABELS)
+    assert len(rows) == 6 * len(FREE_TEXT_LABELS)
+    assert all((free_text / "objects" / row["file"]).is_file() for row in rows)
+
+
+def test_labels_that_share_a_prefix_are_not_merged_into_one_model(free_text):
+    from granular_tools.labels import model_label
+
+    models = sorted(model_label(path) for path in (free_text / "models").iterdir()
+                    if path.suffix == ".pcd")
+    assert models == sorted(FREE_TEXT_LABELS)
+    document = json.loads((free_text / "models" / "models.json").read_text(encoding="utf-8"))
+    assert sorted(document["classes"]) == sorted(FREE_TEXT_LABELS)
+    assert all(entry["objects"] == 6 for entry in document["classes"].values())
+
+
+def test_free_text_labels_survive_classification_and_the_report(free_text, tmp_path):
+    results = tmp_path / "results"
+    (results / "knn").mkdir(parents=True)
+    (results / "ndt").mkdir()
+    commands = [
+        TRAIN + ["--objects", free_text / "objects", "--method", "knn", "--out",
+                 tmp_path / "knn.yml"],
+        CLASSIFY_SUPERVISED + ["--model", tmp_path / "knn.yml", "--objects",
+                               free_text / "objects", "--out", results / "knn" / "N10.json"],
+        CLASSIFY_REGISTRATION + ["--models", free_text / "models", "--objects",
+                                 free_text / "objects", "--method", "ndt", "--out",
+                                 results / "ndt" / "N10.json"],
+        MAKE_REPORT + ["--results", results, "--out", tmp_path / "report"],
+    ]
+    for command in commands:
+        result = run(command)
+        assert result.status == 0, str(result)
+    for method in ("knn", "ndt"):
+        text = (results / method / "N10.json").read_text(encoding="utf-8")
+        for label in FREE_TEXT_LABELS:
+            assert json.dumps(label)[1:-1] in text or label in text, (method, label)
+    summary = json.loads((tmp_path / "report" / "summary.json").read_text(encoding="utf-8"))
+    assert set(FREE_TEXT_LABELS) <= set(json.dumps(summary, ensure_ascii=False).split('"'))
+
+
+def test_free_text_labels_are_drawn_as_given_in_the_rviz_markers():
+    import rospy
+    from granular_tools.visualization.markers import detection_markers
+
+    detections, _ = boxes_and_points(FREE_TEXT_LABELS, np.random.default_rng(1))
+    message = recorder.detections_message(detections, bagmaker.stamp(0.0), "velodyne", 0)
+    markers = detection_markers(message, rospy.Duration(0.5))
+    texts = [m.text for m in markers.markers if m.text]
+    assert [t.rsplit(" ", 1)[0] for t in texts] == FREE_TEXT_LABELS
+
+
+# --- broken and implausible boxes ----------------------------------------------------------
+
+def test_nan_and_infinite_boxes_are_skipped_counted_and_never_written_as_json(tmp_path):
+    broken = bagmaker.detections(0.0, ("Sedan", "SUV", "Jeep", "Hatchback"))
+    broken.detections[0].bbox.position.position.x = float("nan")
+    broken.detections[1].bbox.size.y = float("inf")
+    broken.detections[2].bbox.position.orientation.w = float("-inf")
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0)),
+                                               (DETECTIONS_TOPIC, broken)])
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert result.status == 0, str(result)
+    assert "3 a box with NaN or infinite numbers" in result.output
+    (path,) = (tmp_path / "frames" / "detections_3d").iterdir()
+    text = path.read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    document = json.loads(text, parse_constant=lambda name: pytest.fail(f"{name} in JSON"))
+    assert [d["label"] for d in document["detections"]] == ["Hatchback"]
+
+
+def test_a_hand_edited_json_with_nan_is_named_as_not_json(drive, tmp_path):
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    first = sorted((frames / "detections_3d").iterdir())[0]
+    document = json.loads(first.read_text())
+    document["detections"][0]["bbox"]["size"]["x"] = float("nan")
+    first.write_text(json.dumps(document))
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert_fails_clearly(result, 1, first, "not valid JSON")
+    assert not (tmp_path / "objects").exists() and leftovers(tmp_path) == []
+
+
+def test_a_box_with_a_negative_size_is_an_invalid_detection_not_a_stopped_run(drive, tmp_path):
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    first = sorted((frames / "detections_3d").iterdir())[0]
+    document = json.loads(first.read_text())
+    document["detections"][0]["bbox"]["size"]["x"] = -4.0
+    first.write_text(json.dumps(document))
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert result.status == 0, str(result)
+    assert first.name in result.output and "invalid detections skipped" in result.output
+
+
+def test_an_implausibly_large_box_is_skipped_with_a_warning(drive, tmp_path):
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    first = sorted((frames / "detections_3d").iterdir())[0]
+    document = json.loads(first.read_text())
+    document["detections"][0]["bbox"]["size"] = {"x": 1e30, "y": 1e30, "z": 1e30}
+    first.write_text(json.dumps(document))
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert result.status == 0, str(result)
+    assert "max_box_size" in result.output and first.name in result.output
+    rows = (tmp_path / "objects" / "index.csv").read_text().splitlines()[1:]
+    assert all(float(row.split(",")[6]) < 100 for row in rows)
+
+
+def test_a_detection_json_that_is_not_json_names_the_file(drive, tmp_path):
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    first = sorted((frames / "detections_3d").iterdir())[0]
+    first.write_text('{"detections": [')
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert_fails_clearly(result, 1, first)
+    assert not (tmp_path / "objects").exists() and leftovers(tmp_path) == []
+
+
+def test_a_truncated_pcd_names_the_file(drive, tmp_path):
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    first = sorted((frames / "pcd").iterdir())[0]
+    first.write_bytes(first.read_bytes()[:-100])
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert_fails_clearly(result, 1, first)
+    assert not (tmp_path / "objects").exists() and leftovers(tmp_path) == []
+
+
+def test_detections_of_another_frame_without_tf_are_skipped_and_counted(tmp_path):
+    elsewhere = bagmaker.detections(0.0, ("Sedan", "SUV"))
+    elsewhere.detections[0].header.frame_id = "map"
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0)),
+                                               (DETECTIONS_TOPIC, elsewhere)])
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert result.status == 0, str(result)
+    assert "in frame 'map' with no transform" in result.output
+
+
+# --- broken bags --------------------------------------------------------------------------
+
+def test_a_truncated_bag_names_the_bag(drive, tmp_path):
+    bag = tmp_path / "cut.bag"
+    raw = (drive / "drive.bag").read_bytes()
+    bag.write_bytes(raw[: len(raw) // 2])
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, bag)
+    assert not (tmp_path / "frames").exists() and leftovers(tmp_path) == []
+
+
+def test_an_unindexed_bag_names_the_bag_and_says_how_to_repair_it(drive, tmp_path):
+    bag = tmp_path / "unindexed.bag"
+    raw = (drive / "drive.bag").read_bytes()
+    # The index sits at the end of a bag: cutting the last bytes leaves an unindexed one.
+    bag.write_bytes(raw[: len(raw) - 2000])
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert_fails_clearly(result, result.status, bag)
+    assert result.status in (1, 2) and "reindex" in result.output
+
+
+def test_a_corrupt_record_in_an_indexed_bag_names_the_bag(drive, tmp_path):
+    bag = tmp_path / "corrupt.bag"
+    raw = bytearray((drive / "drive.bag").read_bytes())
+    # The second chunk's record header, where the index says it is.
+    with rosbag.Bag(str(drive / "drive.bag")) as reader:
+        position = reader._chunks[1].pos
+    raw[position:position + 64] = b"\xff" * 64
+    bag.write_bytes(bytes(raw))
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, bag)
+    assert not (tmp_path / "frames").exists() and leftovers(tmp_path) == []
+
+
+def test_a_file_that_is_not_a_bag_names_it(tmp_path):
+    bag = tmp_path / "photo.bag"
+    bag.write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 100)
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, bag)
+
+
+def test_a_bag_that_does_not_exist_names_the_path(tmp_path):
+    result = run(BAG_TO_FILES + ["--bag", tmp_path / "missing.bag", "--out", tmp_path / "f"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, tmp_path / "missing.bag")
+
+
+# --- simulator configs: the file, key, value and range named ---------------------------------
+
+@pytest.mark.parametrize("yaml_text,names", [
+    ("rate_hz: 0\n", ["rate_hz", "0"]),
+    ("lidar:\n  rate_hz: 0\n", ["lidar.rate_hz", "0"]),
+    ("lidar:\n  measurements_per_revolution: -5\n", ["measurements_per_revolution", "-5"]),
+    ("lidar:\n  lasers: 0\n", ["lasers", "0"]),
+    ("traffic:\n  class_weights:\n    Sedna: 1.0\n", ["Sedna"]),
+    ("lidar: [1, 2]\n", ["lidar"]),
+    ("lidar:\n  rate_hz: fast\n", ["rate_hz", "fast"]),
+])
+def test_simulator_configs_out_of_range_are_named(tmp_path, yaml_text, names):
+    config = tmp_path / "sim.yaml"
+    config.write_text(yaml_text)
+    result = run(SIMULATE + ["--out", tmp_path / "d.bag", "--duration", "1", "--config", config,
+                             "--quiet"])
+    assert_fails_clearly(result, 2, config, *names)
+    assert not (tmp_path / "d.bag").exists()
+
+
+# --- typos that must not pass silently ------------------------------------------------------
+
+def test_an_unknown_key_in_a_tool_config_names_the_file_the_key_and_the_known_keys(drive,
+                                                                                    tmp_path):
+    config = tmp_path / "extraction.yaml"
+    config.write_text("n_tresh: [10]\n")
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o", "--config",
+                            config])
+    assert_fails_clearly(result, 2, config, "n_tresh", "n_thresh")
+
+
+@pytest.mark.parametrize("option,value,culprit", [
+    ("--n-thresh", "ten", "ten"), ("--n-thresh", "-5", "-5"), ("--padding", "1,2", "1,2"),
+    ("--padding", "a,b,c", "'a'")])
+def test_bad_option_values_name_the_option_and_value(drive, tmp_path, option, value, culprit):
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o", option, value])
+    assert_fails_clearly(result, 2, option, culprit)
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("threads", ["0", "-1", "two"])
+def test_threads_below_one_are_refused_by_every_tool_that_has_the_option(drive, tmp_path,
+                                                                          threads):
+    commands = [
+        CLASSIFY_REGISTRATION + ["--models", drive / "models", "--objects", drive / "objects",
+                                 "--method", "ndt", "--out", tmp_path / "r.json"],
+        CLASSIFY_SUPERVISED + ["--model", drive / "knn.yml", "--objects", drive / "objects",
+                               "--out", tmp_path / "s.json"],
+        TRAIN + ["--objects", drive / "objects", "--method", "knn", "--out", tmp_path / "m.yml"],
+    ]
+    for command in commands:
+        result = run(command + ["--threads", threads])
+        assert_fails_clearly(result, 2, "--threads", threads)
+    assert sorted(os.listdir(tmp_path)) == []
+
+
+def test_an_unknown_preset_is_named_with_the_known_ones(drive, tmp_path):
+    result = run(CLASSIFY_REGISTRATION + ["--models", drive / "models", "--objects",
+                                          drive / "objects", "--method", "ndt", "--preset",
+                                          "tunned", "--out", tmp_path / "r.json"])
+    assert_fails_clearly(result, 2, "tunned", "tuned")
+
+
+def test_a_classifier_file_cut_short_is_named(drive, tmp_path):
+    model = tmp_path / "knn.yml"
+    raw = (drive / "knn.yml").read_bytes()
+    model.write_bytes(raw[: len(raw) // 2])
+    result = run(CLASSIFY_SUPERVISED + ["--model", model, "--objects", drive / "objects",
+                                        "--out", tmp_path / "s.json"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, model)
+    assert not (tmp_path / "s.json").exists()
+
+
+def test_a_models_folder_given_as_a_classifier_says_what_was_expected(drive, tmp_path):
+    result = run(CLASSIFY_SUPERVISED + ["--model", drive / "models", "--objects",
+                                        drive / "objects", "--out", tmp_path / "s.json"])
+    assert result.status in (1, 2)
+    assert_fails_clearly(result, result.status, drive / "models")
+    assert_no_crash(result)

@@ -132,7 +132,7 @@ class OnlineClassifier {
 
   ~OnlineClassifier() {
     // Plain stdout: roscpp has shut rosconsole down by the time spin() returns on a signal.
-    std::printf("online_classifier: whole run: %s\n", latency_.total().c_str());
+    std::printf("online_classifier: latency over the whole run: %s\n", latency_.total().c_str());
     std::fflush(stdout);
   }
 

@@ -1,0 +1,181 @@
+"""Hostile inputs through roslaunch and the nodes: the entry points for scripts return the
+failing stage's status, arguments are checked before the first stage, relative paths are taken
+from where the user stands, and the nodes stop at start-up with a message that says what was
+given, what was expected and the path."""
+import os
+import socket
+import subprocess
+import time
+
+import pytest
+
+import hostile
+from conftest import REPO_ROOT
+from hostile import assert_fails_clearly, run, tool
+
+LAUNCH = [str(REPO_ROOT / "scripts" / "launch")]
+RUN_PIPELINE = tool("granular_tools", "run_pipeline")
+ONLINE_CLASSIFIER = tool("granular_ros", "online_classifier")
+BAG_TO_FILES_NODE = tool("granular_tools", "bag_to_files_node")
+
+
+def free_port():
+    with socket.socket() as probe:
+        probe.bind(("localhost", 0))
+        return probe.getsockname()[1]
+
+
+def own_master_environment():
+    """An environment whose ROS master (started by roslaunch, or by the ros_master fixture)
+    no other test shares."""
+    env = dict(os.environ)
+    env["ROS_MASTER_URI"] = f"http://localhost:{free_port()}"
+    env["ROS_HOME"] = os.environ.get("ROS_HOME", os.path.expanduser("~/.ros"))
+    return env
+
+
+@pytest.fixture(scope="module")
+def ros_master():
+    env = own_master_environment()
+    port = env["ROS_MASTER_URI"].rsplit(":", 1)[1]
+    master = subprocess.Popen(["rosmaster", "--core", "-p", port], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    hostile.wait_for(lambda: socket.socket().connect_ex(("localhost", int(port))) == 0, 20,
+                     "the ROS master")
+    yield env
+    master.terminate()
+    master.wait(timeout=20)
+
+
+# --- pipeline.launch and its runner -------------------------------------------------------
+
+def test_the_launch_entry_point_returns_the_failing_stages_status_and_marks_the_run(
+        drive, tmp_path):
+    frames = tmp_path / "out" / "frames"
+    frames.mkdir(parents=True)
+    (frames / "thesis.tex").write_text("mine")
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "pipeline.launch",
+                           f"bag:={drive / 'drive.bag'}", f"out:={tmp_path / 'out'}"],
+                 env=own_master_environment())
+    assert_fails_clearly(result, 2, frames, "even with overwrite:=true")
+    assert (frames / "thesis.tex").read_text() == "mine"
+
+
+def test_relative_paths_are_taken_from_where_the_user_stands_and_named_absolutely(tmp_path):
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "pipeline.launch", "bag:=drive.bag",
+                           "out:=results"], cwd=tmp_path, env=own_master_environment())
+    assert_fails_clearly(result, 2, tmp_path / "drive.bag")
+    assert not (tmp_path / "results").exists()
+
+
+@pytest.mark.parametrize("argument,named", [
+    ("--n-thresh=ten", "ten"), ("--n-thresh=10,-5", "n_thresh"),
+    ("--models-from=7", "models_from 7"), ("--models-from=x", "models_from 'x'"),
+    ("--model-method=icpp", "icpp"), ("--stages=frames,modles", "modles")])
+def test_pipeline_arguments_are_checked_before_the_first_stage(drive, tmp_path, argument,
+                                                                named):
+    out = tmp_path / "run"
+    result = run(RUN_PIPELINE + ["--bag", drive / "drive.bag", "--out", out, argument])
+    assert_fails_clearly(result, 2, named)
+    assert not (out / "frames").exists()
+
+
+def test_a_failing_stage_leaves_failed_naming_it_and_no_complete_looking_results(
+        drive, tmp_path):
+    config_dir = tmp_path / "config"
+    config_dir.mkdir()
+    (config_dir / "models.yaml").write_text("filters:\n  voxel_grid: {leaf_size: -1}\n")
+    out = tmp_path / "run"
+    result = run(RUN_PIPELINE + ["--bag", drive / "drive.bag", "--out", out, "--n-thresh", "10",
+                                 "--config-dir", config_dir])
+    assert_fails_clearly(result, 2, "models", "leaf_size")
+    failed = (out / "FAILED").read_text()
+    assert "stage: models (build_models)" in failed and "exit status: 2" in failed
+    assert not (out / "models").exists()
+
+
+def test_a_successful_run_removes_an_earlier_failed_marker(drive, tmp_path):
+    config_dir = tmp_path / "config"
+    config_dir.mkdir()
+    (config_dir / "extraction.yaml").write_text("n_thresh: [0]\n")
+    out = tmp_path / "run"
+    command = RUN_PIPELINE + ["--bag", drive / "drive.bag", "--out", out, "--n-thresh", "10",
+                              "--stages", "frames,objects"]
+    failed = run(command + ["--config-dir", config_dir])
+    assert failed.status == 2 and (out / "FAILED").is_file(), str(failed)
+    succeeded = run(command + ["--overwrite"])
+    assert succeeded.status == 0, str(succeeded)
+    assert not (out / "FAILED").exists()
+
+
+# --- the nodes at start-up ------------------------------------------------------------------
+
+def node(command, env, timeout=60):
+    return run(command + ["__name:=hostile_node"], env=env, timeout=timeout)
+
+
+def test_a_models_folder_given_for_a_supervised_method_says_what_is_expected(drive,
+                                                                              ros_master):
+    result = node(ONLINE_CLASSIFIER + ["_method:=svm", f"_models:={drive / 'models'}"],
+                  ros_master)
+    assert_fails_clearly(result, 1, drive / "models", "is a folder", "classifier file")
+
+
+def test_a_classifier_file_given_for_a_registration_method_says_what_is_expected(drive,
+                                                                                  ros_master):
+    result = node(ONLINE_CLASSIFIER + ["_method:=ndt", f"_models:={drive / 'knn.yml'}"],
+                  ros_master)
+    assert_fails_clearly(result, 1, drive / "knn.yml", "models folder")
+
+
+def test_a_truncated_classifier_file_is_named_without_a_parser_dump(drive, tmp_path,
+                                                                     ros_master):
+    model = tmp_path / "knn.yml"
+    raw = (drive / "knn.yml").read_bytes()
+    model.write_bytes(raw[: len(raw) // 3])
+    result = node(ONLINE_CLASSIFIER + ["_method:=knn", f"_models:={model}"], ros_master)
+    assert_fails_clearly(result, 1, model, "not a complete classifier file")
+    assert "cv::" not in result.output and "OpenCV(" not in result.output
+
+
+def test_a_classifier_of_another_method_is_named(drive, ros_master):
+    result = node(ONLINE_CLASSIFIER + ["_method:=svm", f"_models:={drive / 'knn.yml'}"],
+                  ros_master)
+    assert_fails_clearly(result, 1, drive / "knn.yml", "knn")
+
+
+def test_an_unknown_method_lists_the_known_ones(drive, ros_master):
+    result = node(ONLINE_CLASSIFIER + ["_method:=svn", f"_models:={drive / 'knn.yml'}"],
+                  ros_master)
+    assert_fails_clearly(result, 1, "svn", "svm")
+
+
+def test_bag_to_files_node_into_a_path_under_a_regular_file_names_it(tmp_path, ros_master):
+    blocker = tmp_path / "plain_file"
+    blocker.write_text("x")
+    result = node(BAG_TO_FILES_NODE + [f"_out:={blocker / 'frames'}"], ros_master)
+    assert result.status != 0
+    assert_fails_clearly(result, result.status, blocker)
+    assert blocker.read_text() == "x"
+
+
+def test_play_bag_names_a_truncated_bag(drive, tmp_path):
+    bag = tmp_path / "cut.bag"
+    raw = (drive / "drive.bag").read_bytes()
+    bag.write_bytes(raw[: len(raw) // 2])
+    result = run(tool("granular_tools", "play_bag") + [bag, "--quiet"],
+                 env=own_master_environment(), timeout=60)
+    assert_fails_clearly(result, result.status, bag)
+    assert result.status != 0
+
+
+def test_online_launch_with_exit_when_done_prints_the_latency_summary(drive, tmp_path):
+    started = time.monotonic()
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "online.launch", f"bag:={drive / 'drive.bag'}",
+                           f"models:={drive / 'knn.yml'}", "method:=knn", "rviz:=false",
+                           "exit_when_done:=true", "rate:=4"],
+                 env=own_master_environment(), timeout=240)
+    assert result.status == 0, str(result)
+    assert "latency over the whole run" in result.output and "p95" in result.output, \
+        str(result)
+    assert time.monotonic() - started < 240

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -13,17 +12,19 @@
 #include <string>
 #include <vector>
 
-#include <granular_core/classification/classify_folder.h>
+#include <granular_core/dataset/models_folder.h>
 #include <granular_core/dataset/object_names.h>
+#include <granular_core/dataset/pcd_io.h>
+#include <granular_core/registration/criteria.h>
+#include <granular_core/registration/reference.h>
+#include <granular_core/registration/registration_classifier.h>
 #include <pcl/console/print.h>
 
-#include "granular_ros/classification_config_yaml.h"
+#include "granular_ros/presets.h"
 #include "granular_ros/command_line.h"
+#include "granular_ros/tool.h"
 
 namespace {
-
-constexpr int kFailed = 1;
-constexpr int kBadUsage = 2;
 
 const char* const kUsage =
     "usage: bench_registration --models FOLDER --objects FOLDER [options]\n"
@@ -41,7 +42,7 @@ const char* const kUsage =
     "  --models FOLDER    class models (<Class>.pcd)\n"
     "  --objects FOLDER   objects (<Class>-<stamp>-<index>.pcd)\n"
     "  --methods LIST     comma-separated, of icp, icp_nl, ndt (default: all three)\n"
-    "  --preset NAME      parameter preset (default report)\n"
+    "  --preset NAME      parameter preset (default tuned)\n"
     "  --config FILE      YAML file with presets (config/classification.yaml)\n"
     "  --threads N        threads of the fast run (default: every core)\n"
     "  --help             print this help and exit\n"
@@ -52,28 +53,10 @@ struct Options {
   std::string models;
   std::string objects;
   std::vector<std::string> methods = {"icp", "icp_nl", "ndt"};
-  std::string preset = "report";
+  std::string preset = granular_ros::kDefaultPreset;
   std::optional<std::string> config_file;
   int threads = 0;
-  bool help = false;
 };
-
-Options parseArguments(int argc, char** argv) {
-  Options options;
-  granular_ros::OptionTable()
-      .help(options.help)
-      .required("--models", options.models)
-      .required("--objects", options.objects)
-      .custom("--methods",
-              [&options](granular_ros::OptionReader& reader) {
-                options.methods = granular_ros::splitList("--methods", reader.value());
-              })
-      .value("--preset", options.preset)
-      .value("--config", options.config_file)
-      .number("--threads", options.threads)
-      .parse(argc, argv);
-  return options;
-}
 
 std::vector<granular::ModelCloud> readObjects(const std::filesystem::path& folder) {
   std::vector<granular::ModelCloud> objects;
@@ -128,40 +111,34 @@ std::size_t differentPairs(const std::vector<std::vector<granular::PairResult>>&
 int main(int argc, char** argv) {
   Options options;
   granular::RegistrationClassifierConfig config;
-  try {
-    options = parseArguments(argc, argv);
-    if (options.help) {
-      std::cout << kUsage;
-      return 0;
-    }
-    std::map<std::string, granular::RegistrationClassifierConfig> presets =
-        granular::registrationPresets();
-    if (options.config_file) {
-      granular_ros::loadRegistrationPresets(*options.config_file, presets);
-    }
-    if (presets.count(options.preset) == 0) {
-      throw std::invalid_argument("--preset: no preset '" + options.preset + "'");
-    }
-    config = presets.at(options.preset);
+  granular_ros::Tool tool("bench_registration", [] { return std::string(kUsage); });
+  tool.options()
+      .required("--models", options.models)
+      .required("--objects", options.objects)
+      .custom("--methods",
+              [&options](granular_ros::OptionReader& reader) {
+                options.methods = granular_ros::splitList("--methods", reader.value());
+              })
+      .value("--preset", options.preset)
+      .value("--config", options.config_file)
+      .threads("--threads", options.threads);
+  const auto configure = [&] {
+    config = granular_ros::resolvePreset(options.config_file, options.preset);
     for (const std::string& method : options.methods) {
       if (!granular::registrationMethodFromName(method)) {
         throw std::invalid_argument("--methods: unknown method '" + method + "'");
       }
     }
-  } catch (const std::exception& error) {
-    std::cerr << "bench_registration: " << error.what() << "\n(see bench_registration --help)\n";
-    return kBadUsage;
-  }
-
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  bool agree = true;
-  try {
+  };
+  return tool.run(argc, argv, configure, [&] {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
     const std::vector<granular::LabelledModel> models = granular::readClassModels(options.models);
     const std::vector<granular::ModelCloud> objects = readObjects(options.objects);
     std::printf("%zu objects, %zu models, preset %s\n", objects.size(), models.size(),
                 options.preset.c_str());
     std::printf("%-8s %12s %12s %10s %9s %12s %14s\n", "method", "report loop", "granular",
                 "speed-up", "threads", "different", "pairs differ");
+    bool agree = true;
     for (const std::string& name : options.methods) {
       const granular::RegistrationMethod method = *granular::registrationMethodFromName(name);
       granular::RegisterOptions fast_options;
@@ -174,7 +151,7 @@ int main(int argc, char** argv) {
       const double fast_seconds = secondsSince(start);
 
       start = std::chrono::steady_clock::now();
-      const auto plain = classifier.registerObjectsPlain(objects);
+      const auto plain = granular::registerObjectsReference(method, config, models, objects);
       const double plain_seconds = secondsSince(start);
 
       const std::size_t different = differentPredictions(plain, fast);
@@ -185,13 +162,8 @@ int main(int argc, char** argv) {
                   differentPairs(plain, fast));
       std::fflush(stdout);
     }
-  } catch (const std::exception& error) {
-    std::cerr << "bench_registration: " << error.what() << '\n';
-    return kFailed;
-  }
-  if (!agree) {
-    std::cerr << "bench_registration: the two loops predict differently\n";
-    return kFailed;
-  }
-  return 0;
+    if (!agree) {
+      throw std::runtime_error("the two loops predict differently");
+    }
+  });
 }

@@ -1,19 +1,17 @@
 // classify_registration: the command-line face of granular::classifyFolder. Registers every
 // object of an objects folder against every class model with ICP, ICP-NL or NDT and writes one
 // JSON record per object; prints how each of the report's criteria did.
-#include <cstdio>
 #include <iostream>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
-#include <granular_core/classification/classify_folder.h>
+#include <granular_core/runs/classify_registration_run.h>
 #include <pcl/console/print.h>
 
-#include "granular_ros/classification_config_yaml.h"
 #include "granular_ros/command_line.h"
+#include "granular_ros/presets.h"
 #include "granular_ros/tool.h"
 
 namespace {
@@ -47,7 +45,8 @@ std::string usage() {
           "                    NDT resolution "
        << report.ndt.resolution << " m, " << report.ndt.max_iterations
        << " iterations) or tuned (chosen on a\n"
-          "                    training drive); default report\n"
+          "                    training drive); default "
+       << granular_ros::kDefaultPreset << "\n"
           "  --config FILE     YAML file with presets (the repository's\n"
           "                    config/classification.yaml documents every parameter)\n"
           "  --threads N       threads (default: every core)\n"
@@ -64,47 +63,10 @@ struct Options {
   std::string objects;
   std::string method;
   std::string out;
-  std::string preset = "report";
+  std::string preset = granular_ros::kDefaultPreset;
   std::optional<std::string> config_file;
   int threads = 0;
 };
-
-// The built-in presets, then the YAML file's, then the one chosen.
-granular::RegistrationClassifierConfig buildConfig(const Options& options) {
-  std::map<std::string, granular::RegistrationClassifierConfig> presets =
-      granular::registrationPresets();
-  if (options.config_file) {
-    granular_ros::loadRegistrationPresets(*options.config_file, presets);
-  }
-  const auto preset = presets.find(options.preset);
-  if (preset == presets.end()) {
-    std::string known;
-    for (const auto& [name, unused] : presets) {
-      known += (known.empty() ? "" : ", ") + name;
-    }
-    throw std::invalid_argument("--preset: no preset '" + options.preset + "' (known: " +
-                                known + ")");
-  }
-  try {
-    granular::validate(preset->second);
-  } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument("invalid configuration (preset " + options.preset +
-                                "): " + error.what());
-  }
-  return preset->second;
-}
-
-void printSummary(const granular::ClassificationRun& run) {
-  std::printf("%s (%s): %zu objects against %zu models in %.2f s on %d threads\n",
-              granular::registrationMethodName(run.method), run.preset.c_str(),
-              run.objects.size(), run.models.size(), run.seconds, run.threads);
-  for (int criterion = 1; criterion <= 3; ++criterion) {
-    const granular::CriterionSummary summary = run.summary(criterion);
-    std::printf("  criterion %d: %zu predicted, %zu without a prediction, accuracy %.3f of "
-                "the predicted\n",
-                criterion, summary.predicted, summary.missing, summary.accuracy());
-  }
-}
 
 }  // namespace
 
@@ -128,7 +90,7 @@ int main(int argc, char** argv) {
                                   options.method + "'");
     }
     method = *parsed;
-    config = buildConfig(options);
+    config = granular_ros::resolvePreset(options.config_file, options.preset);
   };
   return tool.run(argc, argv, configure, [&] {
     // PCL prints a line for every registration that finds too few pairs or no NDT cell; the
@@ -145,6 +107,6 @@ int main(int argc, char** argv) {
     const granular::ClassificationRun run =
         granular::classifyFolder(options.models, options.objects, method, config, run_options);
     granular::writeClassificationJson(options.out, run);
-    printSummary(run);
+    run.report(std::cout);
   });
 }

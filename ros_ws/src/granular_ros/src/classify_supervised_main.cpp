@@ -1,15 +1,14 @@
 // classify_supervised: classifies every object of an objects folder with a model written by
 // train_classifier and writes one JSON record per object.
-#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include <granular_core/classification/classify_supervised.h>
+#include <granular_core/runs/classify_supervised_run.h>
 
 #include "granular_ros/command_line.h"
-#include "granular_ros/supervised_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "granular_ros/tool.h"
 
 namespace {
@@ -57,9 +56,7 @@ int main(int argc, char** argv) {
       .threads("--threads", options.threads);
   const auto configure = [&] {
     if (options.config_file) {
-      expected.emplace();
-      granular_ros::loadSupervisedConfig(*options.config_file, *expected);
-      granular::validate(*expected);
+      expected = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
     }
   };
   return tool.run(argc, argv, configure, [&] {
@@ -82,12 +79,6 @@ int main(int argc, char** argv) {
       std::cerr << "classify_supervised: warning: " << warning << '\n';
     }
     granular::writeSupervisedJson(options.out, run, classifier);
-    std::size_t correct = 0;
-    for (std::size_t i = 0; i < run.files.size(); ++i) {
-      correct += run.true_labels[i] == run.predicted[i];
-    }
-    std::printf("%s: %zu objects in %.2f s, %.0f us per object on one core, accuracy %.3f\n",
-                method.c_str(), run.files.size(), run.seconds, run.microseconds_per_object,
-                run.files.empty() ? 0.0 : static_cast<double>(correct) / run.files.size());
+    run.report(std::cout);
   });
 }

@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include <granular_core/extraction/detections.h>
+#include <granular_core/dataset/detections.h>
 #include <granular_core/extraction/extract_objects.h>
 #include <granular_core/dataset/pcd_io.h>
 #include <granular_core/segmentation/occupancy_segmentation.h>
 
 #include "granular_ros/command_line.h"
-#include "granular_ros/segmentation_config_yaml.h"
+#include "granular_ros/config_file.h"
 
 namespace {
 
@@ -71,10 +71,7 @@ int main(int argc, char** argv) {
       std::cout << kUsage;
       return 0;
     }
-    if (config_file) {
-      granular_ros::loadSegmentationConfig(*config_file, config);
-    }
-    granular::validate(config);
+    config = granular_ros::buildConfig<granular::SegmentationConfig>(config_file);
   } catch (const std::exception& error) {
     std::cerr << "evaluate_segmentation: " << error.what()
               << "\n(see evaluate_segmentation --help)\n";

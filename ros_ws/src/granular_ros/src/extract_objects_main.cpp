@@ -1,20 +1,16 @@
 // extract_objects: the command-line face of granular::extractFolder. Reads options and an
 // optional YAML config, runs the extraction, reports progress on stderr and a summary on stdout.
-#include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <iostream>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <granular_core/extraction/extract_folder.h>
+#include <granular_core/runs/extract_run.h>
 
 #include "granular_ros/command_line.h"
-#include "granular_ros/extraction_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "granular_ros/tool.h"
 
 namespace {
@@ -66,7 +62,10 @@ std::string usage() {
          "stdout. --out is built beside itself and put in place when complete; a second run\n"
          "into it is refused meanwhile. Exit status: 0 done, 1 extraction failed (unreadable\n"
          "input, output not writable or holding results without --overwrite), 2 bad option or\n"
-         "configuration, 130/143 interrupted (nothing left half written).\n";
+         "configuration, 130/143 interrupted (nothing left half written).\n"
+         "\n"
+         "configuration keys (--config) and their defaults:\n" +
+         granular_ros::configurationHelp<granular::ExtractionConfig>();
 }
 
 struct Options {
@@ -81,96 +80,31 @@ struct Options {
 };
 
 // Defaults, then the YAML file, then the command line.
-granular::ExtractionConfig buildConfig(const Options& options) {
-  granular::ExtractionConfig config;
-  if (options.config_file) {
-    granular_ros::loadExtractionConfig(*options.config_file, config);
-  }
-  if (options.n_thresh) {
-    config.n_thresh.clear();
-    for (const std::string& item : granular_ros::splitList("--n-thresh", *options.n_thresh)) {
-      config.n_thresh.push_back(granular_ros::parseNumber<std::size_t>("--n-thresh", item));
-    }
-  }
-  if (options.labels) {
-    config.labels = granular_ros::splitList("--labels", *options.labels);
-  }
-  if (options.padding) {
-    const std::vector<std::string> items = granular_ros::splitList("--padding", *options.padding);
-    if (items.size() != 3) {
-      throw std::invalid_argument("--padding: expected X,Y,Z in metres, got '" + *options.padding + "'");
-    }
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-      config.padding[static_cast<Eigen::Index>(axis)] =
-          granular_ros::parseNumber<double>("--padding", items[axis]);
-    }
-  }
-  try {
-    granular::validate(config);
-  } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument(std::string("invalid configuration: ") + error.what());
-  }
-  return config;
-}
-
-void reportList(const char* title, const std::vector<std::string>& lines) {
-  constexpr std::size_t kShown = 10;
-  if (lines.empty()) {
-    return;
-  }
-  std::cerr << title << " (" << lines.size() << "):\n";
-  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i) {
-    std::cerr << "  " << lines[i] << '\n';
-  }
-  if (lines.size() > kShown) {
-    std::cerr << "  ... and " << lines.size() - kShown << " more\n";
-  }
-}
-
-void printSummary(const granular::ExtractFolderSummary& summary, double seconds) {
-  reportList("cleared", summary.cleared);
-  reportList("warnings", summary.warnings);
-  reportList("frames skipped", summary.frames_skipped);
-  reportList("invalid detections skipped", summary.invalid_detections);
-
-  std::printf("frames: %zu extracted, %zu skipped, %.2f s, %.1f frames/s\n", summary.frames_read,
-              summary.frames_skipped.size(), seconds,
-              seconds > 0.0 ? static_cast<double>(summary.frames_read) / seconds : 0.0);
-  std::printf("invalid detections: %zu, non-finite points: %zu\n",
-              summary.invalid_detections.size(), summary.non_finite_points);
-
-  std::map<std::string, std::map<std::size_t, std::size_t>> by_label;
-  for (const auto& [threshold, labels] : summary.objects) {
-    for (const auto& [label, count] : labels) {
-      by_label[label][threshold] = count;
-    }
-  }
-  // The label column as wide as the longest label, so that long real labels keep the table.
-  int width = 16;
-  for (const auto& [label, counts] : by_label) {
-    width = std::max(width, static_cast<int>(label.size()));
-  }
-  std::printf("objects per label (columns: at least N points):\n  %-*s", width, "label");
-  for (const auto& [threshold, labels] : summary.objects) {
-    std::printf(" %8s", ("N" + std::to_string(threshold)).c_str());
-  }
-  std::printf("\n");
-  std::map<std::size_t, std::size_t> totals;
-  for (const auto& [label, counts] : by_label) {
-    std::printf("  %-*s", width, label.c_str());
-    for (const auto& [threshold, labels] : summary.objects) {
-      const auto count = counts.find(threshold);
-      const std::size_t value = count == counts.end() ? 0 : count->second;
-      totals[threshold] += value;
-      std::printf(" %8zu", value);
-    }
-    std::printf("\n");
-  }
-  std::printf("  %-*s", width, "total");
-  for (const auto& [threshold, labels] : summary.objects) {
-    std::printf(" %8zu", totals[threshold]);
-  }
-  std::printf("\n");
+granular::ExtractionConfig buildExtractionConfig(const Options& options) {
+  return granular_ros::buildConfig<granular::ExtractionConfig>(
+      options.config_file, [&](granular::ExtractionConfig& config) {
+        if (options.n_thresh) {
+          config.n_thresh.clear();
+          for (const std::string& item : granular_ros::splitList("--n-thresh", *options.n_thresh)) {
+            config.n_thresh.push_back(granular_ros::parseNumber<std::size_t>("--n-thresh", item));
+          }
+        }
+        if (options.labels) {
+          config.labels = granular_ros::splitList("--labels", *options.labels);
+        }
+        if (options.padding) {
+          const std::vector<std::string> items =
+              granular_ros::splitList("--padding", *options.padding);
+          if (items.size() != 3) {
+            throw std::invalid_argument("--padding: expected X,Y,Z in metres, got '" +
+                                        *options.padding + "'");
+          }
+          for (Eigen::Index axis = 0; axis < 3; ++axis) {
+            config.padding[axis] = granular_ros::parseNumber<double>(
+                "--padding", items[static_cast<std::size_t>(axis)]);
+          }
+        }
+      });
 }
 
 }  // namespace
@@ -188,15 +122,11 @@ int main(int argc, char** argv) {
       .value("--n-thresh", options.n_thresh)
       .value("--labels", options.labels)
       .value("--padding", options.padding);
-  return tool.run(argc, argv, [&] { config = buildConfig(options); }, [&] {
+  return tool.run(argc, argv, [&] { config = buildExtractionConfig(options); }, [&] {
     granular::ExtractFolderOptions run;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
     run.threshold_folders = options.threshold_folders;
     run.progress = tool.progress("extracting", "frames");
-    const auto start = std::chrono::steady_clock::now();
-    const granular::ExtractFolderSummary summary =
-        granular::extractFolder(options.in, options.out, config, run);
-    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
-    printSummary(summary, elapsed.count());
+    granular::extractFolder(options.in, options.out, config, run).report(std::cout, std::cerr);
   });
 }

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include <granular_core/classification/object_classifier.h>
+#include <granular_core/online/object_classifier.h>
 #include <granular_core/extraction/extract_objects.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <message_filters/subscriber.h>
@@ -27,55 +27,81 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "granular_ros/classification_config_yaml.h"
 #include "granular_ros/conversions.h"
 #include "granular_ros/latency.h"
 #include "granular_ros/markers.h"
+#include "granular_ros/node_parameters.h"
+#include "granular_ros/presets.h"
 
 namespace {
 
 using Policy = message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2,
                                                                lgsvl_msgs::Detection3DArray>;
 
-// A required private parameter, or an error naming it.
-template <typename T>
-T required(const ros::NodeHandle& node, const std::string& name) {
-  T value;
-  if (!node.getParam(name, value)) {
-    throw std::invalid_argument("parameter ~" + name + " is required");
+// The node's parameters: config/online.yaml's, and what the launch file sets from its arguments.
+struct OnlineClassifierParameters {
+  std::string method;  ///< icp, icp_nl, ndt, knn, svm or svm_esf
+  std::string models;  ///< models folder (registration) or classifier file (supervised)
+  /// A relative `models` is taken from here: roslaunch runs nodes in $ROS_HOME, not where the
+  /// user started it.
+  std::string relative_to = ".";
+  std::string preset = granular_ros::kDefaultPreset;
+  std::string registration_config;  ///< presets file (config/classification.yaml); "": none
+  std::size_t min_points = 10;
+  double slop = 0.01;
+  int queue_size = 10;
+  Eigen::Vector3d padding = Eigen::Vector3d::Zero();
+  int threads = 1;
+  double topic_timeout = 5.0;
+  double report_interval = 10.0;
+  double marker_lifetime = 0.5;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace granular::config;
+    visit("method", self.method, optionalText("a method (icp, icp_nl, ndt, knn, svm or svm_esf)"));
+    visit("models", self.models, optionalText("a models folder or a classifier file"));
+    visit("relative_to", self.relative_to, text("a folder"));
+    visit("preset", self.preset, text("a preset name"));
+    visit("registration_config", self.registration_config, optionalText("a presets file"));
+    visit("min_points", self.min_points, nonNegative("points"));
+    visit("slop", self.slop, positive("s"));
+    visit("queue_size", self.queue_size, atLeast(1, "messages"));
+    visit("padding", self.padding, nonNegative("m"));
+    visit("threads", self.threads, atLeast(1));
+    visit("topic_timeout", self.topic_timeout, positive("s"));
+    visit("report_interval", self.report_interval, positive("s"));
+    visit("marker_lifetime", self.marker_lifetime, nonNegative("s"));
   }
-  return value;
+};
+
+void validate(const OnlineClassifierParameters& parameters) {
+  if (parameters.method.empty() || parameters.models.empty()) {
+    throw std::invalid_argument("parameters ~method and ~models are required");
+  }
+  granular::config::validateFields(parameters);
 }
 
 // The classifier that ~method and ~models name.
-granular::ObjectClassifier makeClassifier(const ros::NodeHandle& node) {
-  const std::string method = required<std::string>(node, "method");
-  // A relative path is taken from ~relative_to: roslaunch runs nodes in $ROS_HOME, not where
-  // the user started it.
-  const std::filesystem::path given = required<std::string>(node, "models");
+granular::ObjectClassifier makeClassifier(const OnlineClassifierParameters& parameters) {
+  const std::string& method = parameters.method;
+  const std::filesystem::path given = parameters.models;
   const std::string models =
-      (given.is_relative() ? std::filesystem::path(node.param<std::string>("relative_to", ".")) /
-                                 given
-                           : given)
+      (given.is_relative() ? std::filesystem::path(parameters.relative_to) / given : given)
           .lexically_normal()
           .string();
-  const int threads = node.param("threads", 1);
   if (const auto registration = granular::registrationMethodFromName(method)) {
-    std::map<std::string, granular::RegistrationClassifierConfig> presets =
-        granular::registrationPresets();
-    const std::string file = node.param<std::string>("registration_config", "");
-    if (!file.empty()) {
-      granular_ros::loadRegistrationPresets(file, presets);
+    std::optional<std::filesystem::path> file;
+    if (!parameters.registration_config.empty()) {
+      file = parameters.registration_config;
     }
-    const std::string preset = node.param<std::string>("preset", "tuned");
-    if (presets.count(preset) == 0) {
-      throw std::invalid_argument("~preset: no preset '" + preset + "'");
-    }
-    return granular::ObjectClassifier::registration(*registration, presets.at(preset), models,
-                                                    threads);
+    return granular::ObjectClassifier::registration(
+        *registration, granular_ros::resolvePreset(file, parameters.preset), models,
+        parameters.threads);
   }
   if (const auto supervised = granular::supervisedMethodFromName(method)) {
-    granular::ObjectClassifier classifier = granular::ObjectClassifier::supervised(models, threads);
+    granular::ObjectClassifier classifier =
+        granular::ObjectClassifier::supervised(models, parameters.threads);
     if (classifier.method() != method) {
       throw std::invalid_argument("~models: " + models + " holds a " + classifier.method() +
                                   " classifier, not " + method);
@@ -88,32 +114,24 @@ granular::ObjectClassifier makeClassifier(const ros::NodeHandle& node) {
 
 class OnlineClassifier {
  public:
-  OnlineClassifier(ros::NodeHandle& node, ros::NodeHandle& private_node)
-      : classifier_(makeClassifier(private_node)),
-        min_points_(static_cast<std::size_t>(private_node.param("min_points", 10))),
-        marker_lifetime_(private_node.param("marker_lifetime", 0.5)),
-        topic_timeout_(private_node.param("topic_timeout", 5.0)),
-        report_interval_(private_node.param("report_interval", 10.0)),
+  OnlineClassifier(ros::NodeHandle& node, ros::NodeHandle& private_node,
+                   const OnlineClassifierParameters& parameters)
+      : classifier_(makeClassifier(parameters)),
+        min_points_(parameters.min_points),
+        marker_lifetime_(parameters.marker_lifetime),
+        topic_timeout_(parameters.topic_timeout),
+        report_interval_(parameters.report_interval),
         tf_listener_(tf_buffer_),
         cloud_subscriber_(private_node, "cloud", 10),
         detections_subscriber_(private_node, "detections", 10) {
-    std::vector<double> padding = private_node.param("padding", std::vector<double>{0, 0, 0});
-    if (padding.size() != 3) {
-      throw std::invalid_argument("~padding: expected [x, y, z] in metres");
-    }
-    extraction_.padding = Eigen::Vector3d(padding[0], padding[1], padding[2]);
-    const double slop = private_node.param("slop", 0.01);
-    const int queue_size = private_node.param("queue_size", 10);
-    if (!(slop > 0.0) || queue_size < 1) {
-      throw std::invalid_argument("~slop must be positive and ~queue_size at least 1");
-    }
+    extraction_.padding = parameters.padding;
     for (const std::string& warning : classifier_.warnings()) {
       ROS_WARN_STREAM("online_classifier: " << warning);
     }
     synchronizer_ = std::make_unique<message_filters::Synchronizer<Policy>>(
-        Policy(static_cast<std::uint32_t>(queue_size)), cloud_subscriber_,
+        Policy(static_cast<std::uint32_t>(parameters.queue_size)), cloud_subscriber_,
         detections_subscriber_);
-    synchronizer_->setMaxIntervalDuration(ros::Duration(slop));
+    synchronizer_->setMaxIntervalDuration(ros::Duration(parameters.slop));
     synchronizer_->registerCallback(&OnlineClassifier::onFrame, this);
     cloud_subscriber_.registerCallback(
         [this](const sensor_msgs::PointCloud2ConstPtr&) { last_cloud_ = Clock::now(); });
@@ -281,7 +299,9 @@ int main(int argc, char** argv) {
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   std::unique_ptr<OnlineClassifier> classifier;
   try {
-    classifier = std::make_unique<OnlineClassifier>(node, private_node);
+    classifier = std::make_unique<OnlineClassifier>(
+        node, private_node,
+        granular_ros::readNodeParameters<OnlineClassifierParameters>(private_node));
   } catch (const std::exception& error) {
     ROS_FATAL_STREAM("online_classifier: " << error.what());
     return 1;

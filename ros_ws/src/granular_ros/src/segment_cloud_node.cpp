@@ -11,34 +11,34 @@
 
 #include "granular_ros/conversions.h"
 #include "granular_ros/latency.h"
+#include "granular_ros/node_parameters.h"
 
 namespace {
 
-granular::SegmentationConfig readConfig(const ros::NodeHandle& node) {
-  granular::SegmentationConfig config;
-  node.param("cell_size", config.cell_size, config.cell_size);
-  node.param("extent", config.extent, config.extent);
-  node.param("height_threshold", config.height_threshold, config.height_threshold);
-  node.param("link_cells", config.link_cells, config.link_cells);
-  int min_cells = static_cast<int>(config.min_cells);
-  int min_points = static_cast<int>(config.min_points);
-  node.param("min_cells", min_cells, min_cells);
-  node.param("min_points", min_points, min_points);
-  if (min_cells < 1 || min_points < 0) {
-    throw std::invalid_argument("~min_cells must be at least 1 and ~min_points at least 0");
+// The node's parameters: the segmentation's (config/segmentation.yaml) and its own.
+struct SegmentCloudParameters {
+  granular::SegmentationConfig segmentation;
+  double report_interval = 10.0;  ///< s between latency lines in the log
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    granular::SegmentationConfig::fields(self.segmentation, visit);
+    visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
-  config.min_cells = static_cast<std::size_t>(min_cells);
-  config.min_points = static_cast<std::size_t>(min_points);
-  node.param("max_length", config.max_length, config.max_length);
-  granular::validate(config);
-  return config;
+};
+
+void validate(const SegmentCloudParameters& parameters) {
+  granular::validate(parameters.segmentation);
+  granular::config::validateFields(parameters);
 }
 
 class SegmentCloud {
  public:
-  explicit SegmentCloud(ros::NodeHandle& node, ros::NodeHandle& private_node)
-      : config_(readConfig(private_node)),
-        report_interval_(private_node.param("report_interval", 10.0)) {
+  explicit SegmentCloud(ros::NodeHandle& node, ros::NodeHandle& private_node) {
+    const auto parameters =
+        granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
+    config_ = parameters.segmentation;
+    report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
     timer_ = node.createSteadyTimer(ros::WallDuration(report_interval_), [this](const auto&) {
@@ -79,7 +79,7 @@ class SegmentCloud {
   }
 
   granular::SegmentationConfig config_;
-  double report_interval_;
+  double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;
   ros::SteadyTimer timer_;

@@ -1,15 +1,14 @@
 // train_classifier: computes the features of a training objects folder and trains a kNN or a
 // nu-SVM classifier on them; writes the model file classify_supervised and the online node load.
-#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include <granular_core/classification/classify_supervised.h>
+#include <granular_core/runs/classify_supervised_run.h>
 
 #include "granular_ros/command_line.h"
-#include "granular_ros/supervised_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "granular_ros/tool.h"
 
 namespace {
@@ -67,25 +66,13 @@ int main(int argc, char** argv) {
                                   options.method + "'");
     }
     method = *parsed;
-    if (options.config_file) {
-      granular_ros::loadSupervisedConfig(*options.config_file, config);
-    }
-    granular::validate(config);
+    config = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
   };
   return tool.run(argc, argv, configure, [&] {
-    const granular::FolderFeatures features = granular::computeFolderFeatures(
-        options.objects, granular::featureKindOf(method), config.histograms, options.threads,
-        tool.progress("features", "objects"));
-    granular::TrainingSummary summary;
-    const granular::SupervisedClassifier classifier = granular::SupervisedClassifier::train(
-        method, config, features.features, features.labels, &summary);
-    classifier.save(options.out);
-    std::printf("%s: trained on %zu objects of %zu classes in %.2f s", options.method.c_str(),
-                summary.objects, classifier.labels().size(), summary.seconds);
-    if (method != granular::SupervisedMethod::kKnn) {
-      std::printf("; nu %.3g, gamma %.3g (%zu pairs tried, cross-validated accuracy %.3f)",
-                  summary.nu, summary.gamma, summary.grid_points, summary.cross_validation);
-    }
-    std::printf("\nmodel: %s\n", options.out.c_str());
+    const granular::TrainingRun run = granular::trainOnFolder(
+        options.objects, method, config, options.threads, tool.progress("features", "objects"));
+    run.classifier.save(options.out);
+    run.report(std::cout);
+    std::cout << "model: " << options.out << '\n';
   });
 }

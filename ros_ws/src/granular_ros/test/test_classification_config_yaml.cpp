@@ -2,8 +2,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <granular_core/registration/registration_config.h>
 
-#include "granular_ros/classification_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "temporary_yaml.h"
 
 namespace granular_ros {
@@ -11,6 +12,14 @@ namespace {
 
 namespace fs = std::filesystem;
 using Presets = std::map<std::string, granular::RegistrationClassifierConfig>;
+
+// The presets of `file` laid over `presets`.
+void loadRegistrationPresets(const fs::path& file, Presets& presets) {
+  granular::RegistrationPresets loaded;
+  loaded.presets = presets;
+  loadConfigFile(file, loaded);
+  presets = loaded.presets;
+}
 
 TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   Presets presets;

@@ -2,8 +2,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <granular_core/extraction/extraction_config.h>
 
-#include "granular_ros/extraction_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "temporary_yaml.h"
 
 namespace granular_ros {
@@ -16,7 +17,7 @@ TEST(ExtractionConfigYamlTest, ShippedConfigLoadsAndValidates) {
   granular::ExtractionConfig config;
   config.n_thresh = {999};
   config.labels = {"Leftover"};
-  ASSERT_NO_THROW(loadExtractionConfig(file, config));
+  ASSERT_NO_THROW(loadConfigFile(file, config));
   EXPECT_NO_THROW(granular::validate(config));
   // The shipped file states the code's defaults.
   const granular::ExtractionConfig defaults;
@@ -30,7 +31,7 @@ class BadConfigTest : public TemporaryYamlTest {
   std::string errorOf(const std::string& content) const {
     return TemporaryYamlTest::errorOf(content, [](const fs::path& file) {
       granular::ExtractionConfig config;
-      loadExtractionConfig(file, config);
+      loadConfigFile(file, config);
     });
   }
 };
@@ -57,7 +58,7 @@ TEST_F(BadConfigTest, KeysLeftOutKeepTheirValues) {
   write("labels: [Sedan, SUV]\n");
   granular::ExtractionConfig config;
   config.n_thresh = {10, 50};
-  loadExtractionConfig(file_, config);
+  loadConfigFile(file_, config);
   EXPECT_EQ(config.labels, (std::vector<std::string>{"Sedan", "SUV"}));
   EXPECT_EQ(config.n_thresh, (std::vector<std::size_t>{10, 50}));
 }

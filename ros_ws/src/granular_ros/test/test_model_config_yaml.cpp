@@ -2,8 +2,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <granular_core/models/model_config.h>
 
-#include "granular_ros/model_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "temporary_yaml.h"
 
 namespace granular_ros {
@@ -21,8 +22,8 @@ TEST(ModelConfigYamlTest, ShippedConfigStatesTheDefaults) {
   config.filters.order = {FilterStage::kVoxelGrid};
   config.icp.max_fitness = 1.0;
   config.mesh.mu = 9.0;
-  config.class_filters["SchoolBus"].max_z = 9.0;
-  ASSERT_NO_THROW(loadModelConfig(file, config));
+  config.class_filters["SchoolBus"]["pass_through"]["max_z"] = 9.0;
+  ASSERT_NO_THROW(loadConfigFile(file, config));
   EXPECT_NO_THROW(granular::validate(config));
   const granular::ModelBuildConfig defaults;
   EXPECT_TRUE(config == defaults);
@@ -37,7 +38,7 @@ class BadModelConfigTest : public TemporaryYamlTest {
   std::string errorOf(const std::string& content) const {
     return TemporaryYamlTest::errorOf(content, [](const fs::path& file) {
       granular::ModelBuildConfig config;
-      loadModelConfig(file, config);
+      loadConfigFile(file, config);
     });
   }
 
@@ -79,7 +80,7 @@ TEST_F(BadModelConfigTest, KeysLeftOutKeepTheirValuesAndOverridesMerge) {
         "  Pedestrian: {order: [pass_through, voxel_grid]}\n");
   granular::ModelBuildConfig config;
   config.icp.max_fitness = 0.02;
-  loadModelConfig(file_, config);
+  loadConfigFile(file_, config);
   EXPECT_EQ(config.method, granular::ConcatenationMethod::kIcp);
   EXPECT_EQ(config.icp.max_fitness, 0.02);
   EXPECT_EQ(config.filtersFor("Van").voxel_grid.leaf_size, 0.12);

@@ -4,9 +4,10 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <granular_core/segmentation/occupancy_segmentation.h>
+#include <granular_core/supervised/supervised_classifier.h>
 
-#include "granular_ros/segmentation_config_yaml.h"
-#include "granular_ros/supervised_config_yaml.h"
+#include "granular_ros/config_file.h"
 #include "temporary_yaml.h"
 
 namespace granular_ros {
@@ -20,7 +21,7 @@ TEST(ShippedConfigTest, SupervisedYamlStatesTheDefaults) {
   config.svm.nu = {0.9};
   config.histograms.bins = 3;
   config.histograms.scatter = granular::ScatterDefinition::kLargest;
-  ASSERT_NO_THROW(loadSupervisedConfig(fs::path(GRANULAR_CONFIG_DIR) / "supervised.yaml", config));
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "supervised.yaml", config));
   EXPECT_NO_THROW(granular::validate(config));
   const granular::SupervisedConfig defaults;
   EXPECT_EQ(config.knn.k, defaults.knn.k);
@@ -38,7 +39,7 @@ TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
   config.cell_size = 1.0;
   config.height_threshold = 1.0;
   ASSERT_NO_THROW(
-      loadSegmentationConfig(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", config));
+      loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", config));
   EXPECT_NO_THROW(granular::validate(config));
   const granular::SegmentationConfig defaults;
   EXPECT_EQ(config.cell_size, defaults.cell_size);
@@ -56,11 +57,11 @@ using ShippedConfigKeysTest = TemporaryYamlTest;
 TEST_F(ShippedConfigKeysTest, BadValuesNameTheFileAndTheKey) {
   const auto supervised = [](const fs::path& file) {
     granular::SupervisedConfig config;
-    loadSupervisedConfig(file, config);
+    loadConfigFile(file, config);
   };
   const auto segmentation = [](const fs::path& file) {
     granular::SegmentationConfig config;
-    loadSegmentationConfig(file, config);
+    loadConfigFile(file, config);
   };
   EXPECT_NE(errorOf("histograms: {scatter: middle}\n", supervised)
                 .find("histograms.scatter: expected smallest or largest, got 'middle'"),

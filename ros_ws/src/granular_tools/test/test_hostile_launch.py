@@ -17,6 +17,7 @@ LAUNCH = [str(REPO_ROOT / "scripts" / "launch")]
 RUN_PIPELINE = tool("granular_tools", "run_pipeline")
 ONLINE_CLASSIFIER = tool("granular_ros", "online_classifier")
 BAG_TO_FILES_NODE = tool("granular_tools", "bag_to_files_node")
+SEGMENT_CLOUD = tool("granular_ros", "segment_cloud")
 
 
 def free_port():
@@ -157,6 +158,33 @@ def test_bag_to_files_node_into_a_path_under_a_regular_file_names_it(tmp_path, r
     assert result.status != 0
     assert_fails_clearly(result, result.status, blocker)
     assert blocker.read_text() == "x"
+
+
+@pytest.mark.parametrize("node_command,parameter,value,known", [
+    (SEGMENT_CLOUD, "hieght_threshold", "0.3", "height_threshold"),
+    (ONLINE_CLASSIFIER, "min_point", "10", "min_points"),
+])
+def test_a_node_refuses_a_misspelt_parameter_and_names_the_known_ones(
+        drive, ros_master, node_command, parameter, value, known):
+    env = dict(ros_master)
+    subprocess.run(["rosparam", "set", f"/hostile_node/{parameter}", value], env=env, check=True)
+    extra = [] if node_command == SEGMENT_CLOUD else [
+        "_method:=knn", f"_models:={drive / 'knn.yml'}"]
+    try:
+        result = node(node_command + extra, env)
+    finally:
+        subprocess.run(["rosparam", "delete", "/hostile_node"], env=env, check=False)
+    assert_fails_clearly(result, 1, parameter, known)
+
+
+def test_a_node_parameter_of_the_wrong_type_is_named(ros_master):
+    env = dict(ros_master)
+    subprocess.run(["rosparam", "set", "/hostile_node/cell_size", "fine"], env=env, check=True)
+    try:
+        result = node(SEGMENT_CLOUD, env)
+    finally:
+        subprocess.run(["rosparam", "delete", "/hostile_node"], env=env, check=False)
+    assert_fails_clearly(result, 1, "cell_size", "expected a number")
 
 
 def test_play_bag_names_a_truncated_bag(drive, tmp_path):

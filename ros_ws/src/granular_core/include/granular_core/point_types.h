@@ -29,6 +29,11 @@ struct EIGEN_ALIGN16 PointXYZIT {
 /// A cloud of PointXYZIT, the type every granular stage reads and writes.
 using Cloud = pcl::PointCloud<PointXYZIT>;
 
+/// Class models are geometry only: intensity and stamps of points stacked from hundreds of
+/// scans mean nothing once averaged in a voxel, and PCL's filters and registration are
+/// precompiled for pcl::PointXYZ.
+using ModelCloud = pcl::PointCloud<pcl::PointXYZ>;
+
 }  // namespace granular
 
 POINT_CLOUD_REGISTER_POINT_STRUCT(granular::PointXYZIT,

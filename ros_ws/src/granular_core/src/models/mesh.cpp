@@ -5,11 +5,9 @@
 
 #include <pcl/common/io.h>
 #include <pcl/features/normal_3d.h>
-#include <pcl/io/ply_io.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/gp3.h>
 
-#include "granular_core/dataset/atomic_file.h"
 
 namespace granular {
 namespace {
@@ -49,12 +47,6 @@ pcl::PolygonMesh triangulate(const ModelCloud& model, const MeshConfig& config) 
   triangulation.setSearchMethod(tree);
   triangulation.reconstruct(mesh);
   return mesh;
-}
-
-void writeMeshPly(const std::filesystem::path& file, const pcl::PolygonMesh& mesh) {
-  writeThroughTemporary(file, "PLY", [&](const std::filesystem::path& partial) {
-    return pcl::io::savePLYFileBinary(partial.string(), mesh) == 0;
-  });
 }
 
 }  // namespace granular

@@ -22,16 +22,6 @@ constexpr std::uint8_t kEmpty = 0;
 constexpr std::uint8_t kOccupied = 1;
 constexpr std::uint8_t kLabelled = 2;
 
-void require(bool condition, const std::string& what) {
-  if (!condition) {
-    throw std::invalid_argument(what);
-  }
-}
-
-void requirePositive(double value, const std::string& field) {
-  require(std::isfinite(value) && value > 0.0, field + " must be a positive number");
-}
-
 // Cell (col, row) is number row * side + col and covers
 // [-half + col * cell_size, -half + (col + 1) * cell_size) in x, likewise in y with row.
 struct Grid {
@@ -235,16 +225,9 @@ std::optional<Segment> segmentOf(const std::vector<std::uint32_t>& cells,
 }  // namespace
 
 void validate(const SegmentationConfig& config) {
-  requirePositive(config.cell_size, "cell_size");
-  requirePositive(config.extent, "extent");
-  require(config.extent / config.cell_size <= kMaxCellsPerSide,
+  config::validateFields(config);
+  config::require(config.extent / config.cell_size <= kMaxCellsPerSide,
           "extent / cell_size must be at most 10000 cells a side");
-  require(std::isfinite(config.height_threshold) && config.height_threshold >= 0.0,
-          "height_threshold must be a finite number, not negative");
-  require(config.min_cells >= 1, "min_cells must be at least 1");
-  require(config.link_cells >= 1 && config.link_cells <= 100,
-          "link_cells must be between 1 and 100");
-  require(config.max_length > 0.0, "max_length must be positive (infinity keeps every box)");
 }
 
 std::vector<Segment> segmentCloud(const Cloud& cloud, const SegmentationConfig& config) {
@@ -280,7 +263,7 @@ std::vector<Segment> segmentCloud(const Cloud& cloud, const SegmentationConfig& 
 
 SegmentationMatch matchSegments(const std::vector<OrientedBox>& segments,
                                 const std::vector<OrientedBox>& truth, double max_distance) {
-  require(std::isfinite(max_distance) && max_distance >= 0.0,
+  config::require(std::isfinite(max_distance) && max_distance >= 0.0,
           "max_distance must be a finite number, not negative");
   std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;  // distance, truth, segment
   for (std::size_t t = 0; t < truth.size(); ++t) {

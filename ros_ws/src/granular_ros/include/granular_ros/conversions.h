@@ -2,8 +2,8 @@
 
 #include <vector>
 
-#include <granular_core/extraction/detections.h>
-#include <granular_core/extraction/oriented_box.h>
+#include <granular_core/dataset/detections.h>
+#include <granular_core/geometry/oriented_box.h>
 #include <granular_core/point_types.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <sensor_msgs/PointCloud2.h>

@@ -28,4 +28,16 @@ std::string binaryPcdHeader(const std::string& fields, const std::string& sizes,
 /// which is put in place as a whole.
 void writePcdBinary(const std::filesystem::path& file, const Cloud& cloud);
 
+/// The finite points of `cloud`, x y z only; `dropped`, when given, receives how many were not
+/// finite.
+ModelCloud toModelCloud(const Cloud& cloud, std::size_t* dropped = nullptr);
+
+/// Reads any PCD with float x, y and z fields (readPcd) as a model cloud, without its
+/// non-finite points. Throws std::runtime_error naming the file.
+ModelCloud readModelPcd(const std::filesystem::path& file);
+
+/// Writes `cloud` as binary PCD with the fields `x y z`, checking every write (writeFile), for
+/// a staging folder. Throws std::runtime_error naming the file on failure.
+void writeModelPcd(const std::filesystem::path& file, const ModelCloud& cloud);
+
 }  // namespace granular

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "granular_core/extraction/detections.h"
+#include "granular_core/dataset/detections.h"
 #include "granular_core/extraction/extraction_config.h"
-#include "granular_core/extraction/oriented_box.h"
+#include "granular_core/geometry/oriented_box.h"
 #include "granular_core/point_types.h"
 
 namespace granular {

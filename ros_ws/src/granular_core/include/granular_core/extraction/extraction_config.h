@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "granular_core/config/fields.h"
+
 namespace granular {
 
 /// Tunables of the extract stage. The defaults here are the reference values; tools overlay a
@@ -22,11 +24,19 @@ struct ExtractionConfig {
   /// m; a box longer, wider or higher than this is skipped as implausible (a 1e30 m box from a
   /// broken detector would turn whole clouds into one object of its class).
   double max_box_size = 30.0;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("padding", self.padding, config::nonNegative("m"));
+    visit("n_thresh", self.n_thresh, config::nonEmpty(config::atLeast(1, "points")));
+    visit("labels", self.labels, config::text("a label"));
+    visit("max_box_size", self.max_box_size, config::positive("m"));
+  }
 };
 
 /// Throws std::invalid_argument naming the field when padding is negative or not finite,
 /// n_thresh is empty or holds a zero, a label is empty, or max_box_size is not positive and
 /// finite.
-void validate(const ExtractionConfig& config);
+inline void validate(const ExtractionConfig& config) { config::validateFields(config); }
 
 }  // namespace granular

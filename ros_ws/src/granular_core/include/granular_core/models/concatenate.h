@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "granular_core/models/model_cloud.h"
+#include "granular_core/point_types.h"
 #include "granular_core/models/model_config.h"
 
 namespace granular {

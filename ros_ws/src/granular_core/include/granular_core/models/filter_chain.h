@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "granular_core/models/model_cloud.h"
+#include "granular_core/point_types.h"
 #include "granular_core/models/model_config.h"
 
 namespace granular {

@@ -1,10 +1,14 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <utility>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "granular_core/config/fields.h"
 
 namespace granular {
 
@@ -14,30 +18,63 @@ enum class ConcatenationMethod {
   kIcp,    ///< 5.2.2: each object aligned to the growing model first, kept if ICP succeeded
 };
 
+template <>
+struct config::EnumNames<ConcatenationMethod> {
+  static constexpr const char* what = "method";
+  static constexpr std::array<std::pair<ConcatenationMethod, const char*>, 2> values{
+      {{ConcatenationMethod::kPlain, "plain"}, {ConcatenationMethod::kIcp, "icp"}}};
+};
+
 /// "plain" or "icp".
-const char* methodName(ConcatenationMethod method);
+inline const char* methodName(ConcatenationMethod method) { return config::enumName(method); }
 /// The method called `name`, or nullopt.
-std::optional<ConcatenationMethod> methodFromName(const std::string& name);
+inline std::optional<ConcatenationMethod> methodFromName(const std::string& name) {
+  return config::enumFromName<ConcatenationMethod>(name);
+}
 
 /// The stages of the model filter chain (report 5.3).
 enum class FilterStage { kPassThrough, kRadiusOutlier, kStatisticalOutlier, kVoxelGrid };
 
+template <>
+struct config::EnumNames<FilterStage> {
+  static constexpr const char* what = "stage";
+  static constexpr std::array<std::pair<FilterStage, const char*>, 4> values{
+      {{FilterStage::kPassThrough, "pass_through"},
+       {FilterStage::kRadiusOutlier, "radius_outlier"},
+       {FilterStage::kStatisticalOutlier, "statistical_outlier"},
+       {FilterStage::kVoxelGrid, "voxel_grid"}}};
+};
+
 /// "pass_through", "radius_outlier", "statistical_outlier" or "voxel_grid".
-const char* stageName(FilterStage stage);
+inline const char* stageName(FilterStage stage) { return config::enumName(stage); }
 /// The stage called `name`, or nullopt.
-std::optional<FilterStage> stageFromName(const std::string& name);
+inline std::optional<FilterStage> stageFromName(const std::string& name) {
+  return config::enumFromName<FilterStage>(name);
+}
 
 /// 5.3.1 ground removal: keeps the points with min_z <= z <= max_z (both inclusive). Object
 /// frame: z = 0 is the bottom face of the detection box, i.e. the road.
 struct PassThroughConfig {
   double min_z = 0.2;  ///< m
   double max_z = 2.0;  ///< m
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("min_z", self.min_z, config::any("m"));
+    visit("max_z", self.max_z, config::any("m"));
+  }
 };
 
 /// 5.3.2: keeps the points with at least min_neighbors other points within radius.
 struct RadiusOutlierConfig {
   double radius = 0.2;     ///< m
   int min_neighbors = 2;   ///< points, not counting the point itself
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("radius", self.radius, config::positive("m"));
+    visit("min_neighbors", self.min_neighbors, config::atLeast(1, "points"));
+  }
 };
 
 /// 5.3.3: removes the points whose mean distance to their mean_k nearest neighbours exceeds
@@ -45,11 +82,22 @@ struct RadiusOutlierConfig {
 struct StatisticalOutlierConfig {
   int mean_k = 5;            ///< neighbours
   double stddev_mul = 0.3;   ///< standard deviations
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("mean_k", self.mean_k, config::atLeast(1, "neighbours"));
+    visit("stddev_mul", self.stddev_mul, config::any("standard deviations"));
+  }
 };
 
 /// 5.3.4: replaces the points of each cubic voxel by their centroid.
 struct VoxelGridConfig {
   double leaf_size = 0.1;  ///< m, edge of a voxel
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("leaf_size", self.leaf_size, config::positive("m"));
+  }
 };
 
 /// The filter chain of a model: the stages in `order` run one after the other; a stage left
@@ -62,20 +110,20 @@ struct FilterChainConfig {
   RadiusOutlierConfig radius_outlier;
   StatisticalOutlierConfig statistical_outlier;
   VoxelGridConfig voxel_grid;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("order", self.order);
+    visit("pass_through", self.pass_through);
+    visit("radius_outlier", self.radius_outlier);
+    visit("statistical_outlier", self.statistical_outlier);
+    visit("voxel_grid", self.voxel_grid);
+  }
 };
 
-/// Per-class changes to the shared FilterChainConfig: each value that is set replaces the
-/// shared one for that class; the others follow the shared chain.
-struct FilterChainOverride {
-  std::optional<std::vector<FilterStage>> order;
-  std::optional<double> min_z;          ///< pass_through, m
-  std::optional<double> max_z;          ///< pass_through, m
-  std::optional<double> radius;         ///< radius_outlier, m
-  std::optional<int> min_neighbors;     ///< radius_outlier
-  std::optional<int> mean_k;            ///< statistical_outlier
-  std::optional<double> stddev_mul;     ///< statistical_outlier
-  std::optional<double> leaf_size;      ///< voxel_grid, m
-};
+/// Per-class changes to the shared FilterChainConfig, in its layout: each value set replaces
+/// the shared one for that class; the others follow the shared chain.
+using FilterChainOverrides = config::Overrides<FilterChainConfig>;
 
 /// ICP alignment of one object to the growing model (pcl::IterativeClosestPoint, point to
 /// point, 6 degrees of freedom). An object is kept when all of these hold:
@@ -102,6 +150,20 @@ struct IcpConfig {
   /// m; the ICP target is the growing model through a voxel grid of this leaf (0: the whole
   /// model), which bounds the cost of each alignment as the model grows.
   double target_leaf_size = 0.05;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("max_iterations", self.max_iterations, config::atLeast(1));
+    visit("max_correspondence_distance", self.max_correspondence_distance, config::positive("m"));
+    visit("transformation_epsilon", self.transformation_epsilon, config::nonNegative("m^2"));
+    visit("euclidean_fitness_epsilon", self.euclidean_fitness_epsilon, config::nonNegative());
+    visit("max_fitness", self.max_fitness, config::positive("m^2"));
+    visit("max_translation", self.max_translation, config::positive("m"));
+    visit("max_rotation_deg", self.max_rotation_deg, config::Spec{"deg", 0.0, true, 180.0});
+    visit("min_points", self.min_points, config::atLeast(3, "points"));
+    // 0: the whole model as target.
+    visit("target_leaf_size", self.target_leaf_size, config::nonNegative("m"));
+  }
 };
 
 /// The automatic ICP seed: for each side of the object (front, back, left, right) the
@@ -110,6 +172,11 @@ struct IcpConfig {
 /// centroid of its object-frame points, each axis scaled by the class's half extent on it.
 struct SeedConfig {
   std::size_t objects_per_side = 2;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("objects_per_side", self.objects_per_side, config::atLeast(1, "objects"));
+  }
 };
 
 /// Optional mesh (report section 6): normals from the normal_k nearest neighbours, then
@@ -122,10 +189,22 @@ struct MeshConfig {
   double max_surface_angle_deg = 45.0;    ///< deg
   double min_angle_deg = 10.0;            ///< deg, smallest triangle angle
   double max_angle_deg = 120.0;           ///< deg, largest triangle angle
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("normal_k", self.normal_k, config::atLeast(3, "neighbours"));
+    visit("search_radius", self.search_radius, config::positive("m"));
+    visit("mu", self.mu, config::positive());
+    visit("max_nearest_neighbors", self.max_nearest_neighbors, config::atLeast(3));
+    visit("max_surface_angle_deg", self.max_surface_angle_deg,
+          config::Spec{"deg", 0.0, true, 180.0});
+    visit("min_angle_deg", self.min_angle_deg, config::Spec{"deg", 0.0, true, 180.0, true});
+    visit("max_angle_deg", self.max_angle_deg, config::Spec{"deg", 0.0, true, 180.0, true});
+  }
 };
 
 /// The per-class overrides of the defaults (see ModelBuildConfig::class_filters).
-std::map<std::string, FilterChainOverride> defaultClassFilters();
+FilterChainOverrides defaultClassFilters();
 
 /// Every tunable of the models stage. The defaults here are the reference values (report 5.2
 /// and 5.3); tools overlay a YAML file and command-line options on them.
@@ -143,8 +222,18 @@ struct ModelBuildConfig {
   /// vehicle models of the simulated drive keep only 1,400-3,600 points.
   /// Pedestrians (about 1,600 points before the voxel grid) cannot reach 5,000 and keep the
   /// shared leaf.
-  std::map<std::string, FilterChainOverride> class_filters = defaultClassFilters();
+  FilterChainOverrides class_filters = defaultClassFilters();
   MeshConfig mesh;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("method", self.method);
+    visit("seed", self.seed);
+    visit("icp", self.icp);
+    visit("filters", self.filters);
+    visit("class_filters", self.class_filters);
+    visit("mesh", self.mesh);
+  }
 
   /// The shared chain with the overrides of class `label`, if any.
   FilterChainConfig filtersFor(const std::string& label) const;
@@ -155,15 +244,5 @@ struct ModelBuildConfig {
 /// repeated stage, and so on.
 void validate(const ModelBuildConfig& config);
 
-bool operator==(const PassThroughConfig& a, const PassThroughConfig& b);
-bool operator==(const RadiusOutlierConfig& a, const RadiusOutlierConfig& b);
-bool operator==(const StatisticalOutlierConfig& a, const StatisticalOutlierConfig& b);
-bool operator==(const VoxelGridConfig& a, const VoxelGridConfig& b);
-bool operator==(const FilterChainConfig& a, const FilterChainConfig& b);
-bool operator==(const FilterChainOverride& a, const FilterChainOverride& b);
-bool operator==(const IcpConfig& a, const IcpConfig& b);
-bool operator==(const SeedConfig& a, const SeedConfig& b);
-bool operator==(const MeshConfig& a, const MeshConfig& b);
-bool operator==(const ModelBuildConfig& a, const ModelBuildConfig& b);
 
 }  // namespace granular

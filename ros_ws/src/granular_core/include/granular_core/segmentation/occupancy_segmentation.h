@@ -3,7 +3,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "granular_core/extraction/oriented_box.h"
+#include "granular_core/config/fields.h"
+#include "granular_core/geometry/oriented_box.h"
 #include "granular_core/point_types.h"
 
 namespace granular {
@@ -31,6 +32,19 @@ struct SegmentationConfig {
   /// m; boxes longer than this along either ground axis (walls, kerbs, hedges) are dropped.
   /// Not in the paper; infinity keeps every box.
   double max_length = 20.0;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("cell_size", self.cell_size, config::positive("m"));
+    visit("extent", self.extent, config::positive("m"));
+    visit("height_threshold", self.height_threshold, config::nonNegative("m"));
+    visit("link_cells", self.link_cells, config::Spec{"cells", 1.0, false, 100.0});
+    visit("min_cells", self.min_cells, config::atLeast(1, "cells"));
+    visit("min_points", self.min_points, config::nonNegative("points"));
+    config::Spec longest = config::positive("m");
+    longest.finite = false;
+    visit("max_length", self.max_length, longest);
+  }
 };
 
 /// Throws std::invalid_argument naming the field for a non-positive or non-finite cell_size or

@@ -1,0 +1,104 @@
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "granular_core/dataset/models_folder.h"
+#include "granular_core/point_types.h"
+#include "granular_core/registration/registration_config.h"
+#include "granular_core/search/nearest_tree.h"
+
+namespace granular {
+
+/// How one registration of an object (source) to a class model (target) ended.
+enum class RegistrationState {
+  kTransform,          ///< converged: the last step was below transformation_epsilon
+  kAbsMse,             ///< converged (ICP): the pairs' mean squared error stopped changing
+  kRelMse,             ///< converged (ICP): ... changed by less than euclidean_fitness_epsilon
+  kIterations,         ///< not converged: stopped by max_iterations
+  kNoCorrespondences,  ///< not converged: too few point pairs (ICP) or none near a cell (NDT)
+  kFailed,             ///< not converged: PCL gave up (a non-finite NDT step)
+  kTooFewPoints,       ///< not run: the object has fewer points than the method needs
+};
+
+/// "transform", "abs_mse", "rel_mse", "iterations", "no_correspondences", "failed",
+/// "too_few_points".
+const char* registrationStateName(RegistrationState state);
+
+/// The state called `name`, or nullopt.
+std::optional<RegistrationState> registrationStateFromName(const std::string& name);
+
+/// True for the states that are convergence: kTransform, kAbsMse, kRelMse. (PCL's
+/// hasConverged() is also true for kIterations, and for NDT for kNoCorrespondences.)
+bool isConverged(RegistrationState state);
+
+/// Points an object needs for `method`: 3 for ICP (an SVD rigid transform needs three point
+/// pairs), 4 for ICP-NL (PCL's Levenberg-Marquardt estimator refuses fewer), 3 for NDT (a
+/// rigid pose is not determined by fewer; PCL does not check). An object with fewer gets a
+/// kTooFewPoints result for every model instead of a registration.
+std::size_t minimumSourcePoints(RegistrationMethod method);
+
+/// The object as registered: its points at or above `min_z` when set (see
+/// RegistrationClassifierConfig::source_min_z), all of them otherwise.
+ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
+                                        const std::optional<double>& min_z);
+
+/// The registration of one object against one class model.
+struct PairResult {
+  RegistrationState state = RegistrationState::kTooFewPoints;
+  /// m^2: mean squared distance of the aligned object points to their nearest model points
+  /// (PCL's getFitnessScore()); infinity when the registration did not run.
+  double fitness = std::numeric_limits<double>::infinity();
+  int iterations = 0;  ///< iterations run
+  /// Maps the object onto the model (homogeneous, object frame to model frame).
+  Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();
+
+  bool converged() const { return isConverged(state); }
+  /// True when the registration ran (state is not kTooFewPoints).
+  bool ran() const { return state != RegistrationState::kTooFewPoints; }
+};
+
+/// A pair whose registration threw: PCL gave up.
+PairResult failedPair();
+
+/// The class models as every method sees them: each cloud, and its NearestTree (built once,
+/// shared read-only by every thread) for the correspondences and the fitness.
+struct PreparedModels {
+  std::vector<ModelCloud::ConstPtr> clouds;
+  std::vector<NearestTree::Ptr> trees;
+};
+
+/// One thread's registration objects for every model of a method.
+class ModelAligner {
+ public:
+  virtual ~ModelAligner() = default;
+  /// Registers `source` (at least minimumSourcePoints points) to model `model`.
+  virtual PairResult align(const ModelCloud::ConstPtr& source, std::size_t model) = 0;
+};
+
+/// A registration method prepared against the class models: what it builds once per model
+/// (read-only afterwards), and an aligner per thread.
+class RegistrationMethodImpl {
+ public:
+  virtual ~RegistrationMethodImpl() = default;
+  virtual std::unique_ptr<ModelAligner> aligner() const = 0;
+  /// What preparing the models found (e.g. an NDT model without cells).
+  virtual std::vector<std::string> warnings() const { return {}; }
+};
+
+/// The three methods (icp.cpp, icp_nl.cpp, ndt.cpp); `models` outlives what they return.
+std::unique_ptr<RegistrationMethodImpl> prepareIcp(const IcpClassifierConfig& config,
+                                                   const PreparedModels& models);
+std::unique_ptr<RegistrationMethodImpl> prepareIcpNl(const IcpClassifierConfig& config,
+                                                     const PreparedModels& models);
+std::unique_ptr<RegistrationMethodImpl> prepareNdt(const NdtClassifierConfig& config,
+                                                   const PreparedModels& models,
+                                                   const std::vector<std::string>& labels);
+
+}  // namespace granular

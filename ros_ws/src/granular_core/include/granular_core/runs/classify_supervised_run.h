@@ -1,0 +1,78 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "granular_core/supervised/supervised_classifier.h"
+
+namespace granular {
+
+/// The objects of an objects folder and their feature vectors.
+struct FolderFeatures {
+  std::vector<std::string> files;    ///< file names, in name order
+  std::vector<std::string> labels;   ///< true label from each name (empty if none)
+  std::vector<std::size_t> points;   ///< finite points of each object
+  std::vector<std::vector<float>> features;
+  /// Per object, microseconds to compute its features, on one core.
+  std::vector<double> microseconds;
+};
+
+/// Reads every object PCD of `folder` (see listObjectFiles) and computes its features of
+/// `kind`, objects spread over `threads` (0: every core). `progress` is called with (objects
+/// done, objects) from one thread at a time. Throws std::runtime_error naming the folder or file
+/// for a missing folder, a folder without object PCDs or an unreadable PCD.
+FolderFeatures computeFolderFeatures(
+    const std::filesystem::path& folder, FeatureKind kind, const PointHistogramConfig& config,
+    int threads = 0, const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// A classified objects folder.
+struct SupervisedRun {
+  SupervisedMethod method = SupervisedMethod::kKnn;
+  std::vector<std::string> files;
+  std::vector<std::string> true_labels;
+  std::vector<std::size_t> points;
+  std::vector<std::string> predicted;
+  double seconds = 0.0;                 ///< wall time of features and predictions
+  double microseconds_per_object = 0.0; ///< features plus prediction, mean on one core
+  std::vector<std::string> warnings;
+
+  /// Objects, seconds, microseconds per object and accuracy, on `out`.
+  void report(std::ostream& out) const;
+};
+
+/// Classifies every object of `folder` with `classifier`. Warnings: objects of classes the
+/// classifier was not trained on (they count as wrong) and objects of fewer than 3 points (their
+/// features are defined, from the points there are, and they are classified all the same).
+SupervisedRun classifyFolderSupervised(
+    const SupervisedClassifier& classifier, const std::filesystem::path& folder, int threads = 0,
+    const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// A classifier trained on an objects folder.
+struct TrainingRun {
+  SupervisedClassifier classifier;
+  TrainingSummary summary;
+
+  /// What was trained, on how many objects, and for the SVMs the chosen nu and gamma, on `out`.
+  void report(std::ostream& out) const;
+};
+
+/// Computes the features of every object of `folder` (computeFolderFeatures) and trains a
+/// classifier of `method` on them (SupervisedClassifier::train).
+TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod method,
+                          const SupervisedConfig& config, int threads = 0,
+                          const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// Writes `run` as JSON, the records make_report reads:
+///   {"method", "primary": "label", "labels": [...], "seconds", "seconds_to_train",
+///    "microseconds_per_object", "training": {...},
+///    "objects": [{"file", "true_label", "points", "predictions": {"label": "<Class>"}}],
+///    "accuracy", "warnings"}
+/// under a temporary name renamed to `file`. Throws std::runtime_error naming the file.
+void writeSupervisedJson(const std::filesystem::path& file, const SupervisedRun& run,
+                         const SupervisedClassifier& classifier);
+
+}  // namespace granular

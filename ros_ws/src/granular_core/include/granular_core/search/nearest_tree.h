@@ -1,0 +1,63 @@
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <pcl/search/kdtree.h>
+
+#include "granular_core/point_types.h"
+#include "granular_core/search/nearest_grid.h"
+#include "granular_core/search/nearest_points.h"
+
+namespace granular {
+
+/// The nearest-point search of a fixed class model, shared read-only by all threads. It
+/// answers ICP's single-neighbour queries from a NearestGrid of the model and, for the queries
+/// its rings cannot settle, from a NearestPoints kd-tree; and the fitness score from the
+/// kd-tree, four object points at a time. Every distance is the one PCL's KdTreeFLANN gives,
+/// bit for bit, without its cost per query: PCL allocates and enters an OpenMP parallel region
+/// (FLANN's knnSearch) for each point, which for small objects costs more than the search.
+/// Two searches are also bounded, without changing their answers:
+///  - ICP's correspondence estimation discards a nearest point beyond the maximum
+///    correspondence distance, so a search needs to look no farther (setCorrespondenceBound);
+///  - fitness() bounds each point's search by the previous point's distance plus the step
+///    between the two points: neighbouring scan points have neighbouring nearest points.
+///
+/// It is a pcl::search::KdTree so that PCL's ICP takes it as its target search
+/// (setSearchMethodTarget); the virtual methods it overrides are PCL 1.13's (see
+/// test_pcl_internals.cpp).
+class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
+ public:
+  using Ptr = std::shared_ptr<NearestTree>;
+  using pcl::search::KdTree<pcl::PointXYZ>::nearestKSearch;
+
+  void setInputCloud(const PointCloudConstPtr& cloud,
+                     const IndicesConstPtr& indices = IndicesConstPtr()) override;
+
+  /// Single-neighbour queries beyond `max_distance` (m) then report no neighbour (an infinite
+  /// distance), which PCL's correspondence estimation discards as it would the real one.
+  void setCorrespondenceBound(double max_distance);
+
+  int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
+                     std::vector<float>& k_sqr_distances) const override;
+
+  /// What PCL's Registration::getFitnessScore() gives for `source` aligned by `transform` on
+  /// this model: the mean squared distance of each transformed point to its nearest model
+  /// point (m^2); the largest double for an empty source or model.
+  double fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const;
+
+ private:
+  // The nearest point closer than `bound` (squared): from the grid, or from the kd-tree when
+  // the grid cannot settle it, bounded by what the grid found.
+  NearestGrid::Result nearestWithin(const float query[3], float bound) const;
+
+  std::vector<float> points_;
+  pcl::Indices mapping_;
+  std::unique_ptr<NearestGrid> grid_;
+  std::unique_ptr<NearestPoints> tree_;
+  float correspondence_bound_ = std::numeric_limits<float>::infinity();
+};
+
+}  // namespace granular

@@ -1,0 +1,129 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "granular_core/config/fields.h"
+#include "granular_core/point_types.h"
+
+namespace granular {
+
+/// The feature vectors of the supervised classifiers, computed from an object's cloud in its
+/// own frame (origin at the centre of the box's bottom face, x forward, y left, z up).
+enum class FeatureKind {
+  kMeanStd,         ///< report 8.4: [mu_x, mu_y, mu_z, sigma_x, sigma_y, sigma_z]
+  kPointHistograms, ///< paper 001, III: 4 object-level values and 8 histograms of b bins
+  kEsf,             ///< PCL's Ensemble of Shape Functions, 640 values
+};
+
+template <>
+struct config::EnumNames<FeatureKind> {
+  static constexpr const char* what = "feature kind";
+  static constexpr std::array<std::pair<FeatureKind, const char*>, 3> values{
+      {{FeatureKind::kMeanStd, "mean_std"},
+       {FeatureKind::kPointHistograms, "point_histograms"},
+       {FeatureKind::kEsf, "esf"}}};
+};
+
+/// "mean_std", "point_histograms" or "esf".
+inline const char* featureKindName(FeatureKind kind) { return config::enumName(kind); }
+inline std::optional<FeatureKind> featureKindFromName(const std::string& name) {
+  return config::enumFromName<FeatureKind>(name);
+}
+
+/// Which sum-normalised eigenvalue (d1 >= d2 >= d3) the scatter-ness L1 is.
+enum class ScatterDefinition {
+  /// d3, as Lalonde et al. define scatter-ness: it is large only where the neighbourhood spreads
+  /// in all three directions (1/3 for an isotropic blob, 0 on a plane or a line).
+  kSmallest,
+  /// d1, as the paper's text writes it (L1 = d1): the largest spread, 1 on a line, 1/2 on a
+  /// plane, 1/3 in a blob.
+  kLargest,
+};
+
+template <>
+struct config::EnumNames<ScatterDefinition> {
+  static constexpr const char* what = "scatter definition";
+  static constexpr std::array<std::pair<ScatterDefinition, const char*>, 2> values{
+      {{ScatterDefinition::kSmallest, "smallest"}, {ScatterDefinition::kLargest, "largest"}}};
+};
+
+inline const char* scatterDefinitionName(ScatterDefinition definition) {
+  return config::enumName(definition);
+}
+inline std::optional<ScatterDefinition> scatterDefinitionFromName(const std::string& name) {
+  return config::enumFromName<ScatterDefinition>(name);
+}
+
+/// The point feature histograms of the paper (Himmelsbach et al., section III). The object is
+/// uniformly sampled down to `sample_points` points; at each sample, features of its
+/// neighbourhood in the whole object cloud:
+///  - Lalonde: L1 (scatter, see `scatter`), L2 = d1 - d2 (linear), L3 = d2 - d3 (surface) from
+///    the sorted, sum-normalised eigenvalues of the covariance of its `neighbours` nearest
+///    points within `neighbour_radius` (fewer than 3 neighbours: no Lalonde values);
+///  - Anguelov: the points of the whole cloud in the vertical cylinder of `cylinder_height` and
+///    `cylinder_radius` centred on the sample, split into `cylinder_slices` equal slices from
+///    bottom to top; each slice's fraction of them.
+/// Each of the 3 + slices values gets a histogram of `bins` bins over [0, 1], divided by the
+/// number of samples. Before them, 4 object-level values: the maximum, mean and variance of the
+/// intensity (0 for a cloud without intensity) and the volume of the object's points' box in
+/// its frame. Default: 4 + 8 x 7 = 60 values.
+struct PointHistogramConfig {
+  std::size_t sample_points = 200;   ///< M
+  std::size_t neighbours = 20;       ///< nearest points for the covariance
+  double neighbour_radius = 0.5;     ///< m
+  std::size_t bins = 7;              ///< b
+  double cylinder_height = 1.0;      ///< m
+  double cylinder_radius = 0.25;     ///< m
+  std::size_t cylinder_slices = 5;
+  ScatterDefinition scatter = ScatterDefinition::kSmallest;
+  std::uint32_t seed = 1;            ///< of the down-sampling, so that features are repeatable
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("sample_points", self.sample_points, config::atLeast(1, "points"));
+    // A covariance needs three points.
+    visit("neighbours", self.neighbours, config::atLeast(3, "points"));
+    visit("neighbour_radius", self.neighbour_radius, config::positive("m"));
+    visit("bins", self.bins, config::atLeast(1));
+    visit("cylinder_height", self.cylinder_height, config::positive("m"));
+    visit("cylinder_radius", self.cylinder_radius, config::positive("m"));
+    visit("cylinder_slices", self.cylinder_slices, config::atLeast(1));
+    visit("scatter", self.scatter);
+    visit("seed", self.seed);
+  }
+};
+
+/// Throws std::invalid_argument naming the field for a value out of range.
+inline void validate(const PointHistogramConfig& config) { config::validateFields(config); }
+
+/// Values of a feature vector of `kind`.
+std::size_t featureSize(FeatureKind kind, const PointHistogramConfig& config);
+
+/// L1, L2, L3 of the sorted, sum-normalised eigenvalues d1 >= d2 >= d3 of a covariance matrix
+/// of `points` (x y z each); all 0 for fewer than 3 points or no spread.
+std::array<double, 3> lalondeFeatures(const std::vector<Eigen::Vector3f>& points,
+                                      ScatterDefinition scatter);
+
+/// The feature vector of `kind` for one object cloud; never NaN: an empty cloud gives zeros,
+/// non-finite points are ignored.
+std::vector<float> objectFeatures(const Cloud& object, FeatureKind kind,
+                                  const PointHistogramConfig& config = {});
+
+/// Report 8.4: mean and (population) standard deviation of x, y and z.
+std::vector<float> meanStdFeatures(const Cloud& object);
+
+/// Paper III: the 4 + (3 + slices) x bins values described at PointHistogramConfig.
+std::vector<float> pointHistogramFeatures(const Cloud& object, const PointHistogramConfig& config);
+
+/// pcl::ESFEstimation's 640 values (zeros for fewer than 3 points).
+std::vector<float> esfFeatures(const Cloud& object);
+
+}  // namespace granular

@@ -1,0 +1,95 @@
+#include "granular_core/registration/reference.h"
+
+#include <exception>
+
+#include <pcl/registration/icp.h>
+#include <pcl/registration/icp_nl.h>
+#include <pcl/registration/ndt.h>
+
+#include "icp_common.h"
+#include "ndt_common.h"
+
+namespace granular {
+namespace {
+
+using Point = pcl::PointXYZ;
+using Icp = icp_detail::ReusableIcp<pcl::IterativeClosestPoint<Point, Point>>;
+using IcpNl = icp_detail::ReusableIcp<pcl::IterativeClosestPointNonLinear<Point, Point>>;
+using Ndt = pcl::NormalDistributionsTransform<Point, Point>;
+
+template <typename Registration>
+PairResult icpPair(const IcpClassifierConfig& config, const ModelCloud::ConstPtr& source,
+                   const ModelCloud::ConstPtr& model) {
+  Registration icp;
+  icp_detail::configure(icp, config);
+  icp.setInputTarget(model);
+  ModelCloud aligned;
+  return icp_detail::alignIcp(icp, source, aligned, nullptr);
+}
+
+PairResult ndtPair(const NdtClassifierConfig& config, const ModelCloud::ConstPtr& source,
+                   const ModelCloud::ConstPtr& model) {
+  Ndt ndt;
+  ndt.setTransformationEpsilon(config.transformation_epsilon);
+  ndt.setStepSize(config.step_size);
+  ndt.setMaximumIterations(config.max_iterations);
+  ndt.setOulierRatio(config.outlier_ratio);  // sic, PCL 1.13
+  // Before the target: both shape the voxel grid that setInputTarget builds.
+  ndt.setMinPointPerVoxel(static_cast<unsigned int>(config.min_points_per_voxel));
+  ndt.setResolution(static_cast<float>(config.resolution));
+  ndt.setInputTarget(model);
+  ndt.setInputSource(source);
+  ModelCloud aligned;
+  ndt.align(aligned);
+  PairResult result;
+  result.iterations = ndt.getFinalNumIteration();
+  result.state = ndt_detail::ndtState(ndt.getTransformationLikelihood(), ndt.hasConverged(),
+                                      result.iterations, config.max_iterations);
+  result.transform = ndt.getFinalTransformation();
+  result.fitness = ndt.getFitnessScore();
+  return result;
+}
+
+PairResult registerPair(RegistrationMethod method, const RegistrationClassifierConfig& config,
+                        const ModelCloud::ConstPtr& source, const ModelCloud::ConstPtr& model) {
+  try {
+    switch (method) {
+      case RegistrationMethod::kIcp:
+        return icpPair<Icp>(config.icp, source, model);
+      case RegistrationMethod::kIcpNl:
+        return icpPair<IcpNl>(config.icp_nl, source, model);
+      case RegistrationMethod::kNdt:
+        return ndtPair(config.ndt, source, model);
+    }
+  } catch (const std::exception&) {
+  }
+  return failedPair();
+}
+
+}  // namespace
+
+std::vector<std::vector<PairResult>> registerObjectsReference(
+    RegistrationMethod method, const RegistrationClassifierConfig& config,
+    const std::vector<LabelledModel>& models, const std::vector<ModelCloud>& objects,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::vector<ModelCloud::ConstPtr> clouds;
+  for (const LabelledModel& model : models) {
+    clouds.emplace_back(new ModelCloud(model.cloud));
+  }
+  std::vector<std::vector<PairResult>> results(objects.size());
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const ModelCloud::ConstPtr source = registrationSource(objects[i], config.source_min_z);
+    results[i].resize(clouds.size());
+    if (source->size() >= minimumSourcePoints(method)) {
+      for (std::size_t m = 0; m < clouds.size(); ++m) {
+        results[i][m] = registerPair(method, config, source, clouds[m]);
+      }
+    }
+    if (progress) {
+      progress(i + 1, objects.size());
+    }
+  }
+  return results;
+}
+
+}  // namespace granular

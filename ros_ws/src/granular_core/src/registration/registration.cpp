@@ -1,0 +1,76 @@
+#include "granular_core/registration/registration.h"
+
+#include <string>
+
+namespace granular {
+namespace {
+
+constexpr RegistrationState kStates[] = {
+    RegistrationState::kTransform,  RegistrationState::kAbsMse,
+    RegistrationState::kRelMse,     RegistrationState::kIterations,
+    RegistrationState::kNoCorrespondences, RegistrationState::kFailed,
+    RegistrationState::kTooFewPoints};
+
+}  // namespace
+
+const char* registrationStateName(RegistrationState state) {
+  switch (state) {
+    case RegistrationState::kTransform:
+      return "transform";
+    case RegistrationState::kAbsMse:
+      return "abs_mse";
+    case RegistrationState::kRelMse:
+      return "rel_mse";
+    case RegistrationState::kIterations:
+      return "iterations";
+    case RegistrationState::kNoCorrespondences:
+      return "no_correspondences";
+    case RegistrationState::kFailed:
+      return "failed";
+    case RegistrationState::kTooFewPoints:
+      return "too_few_points";
+  }
+  return "unknown";
+}
+
+std::optional<RegistrationState> registrationStateFromName(const std::string& name) {
+  for (const RegistrationState state : kStates) {
+    if (name == registrationStateName(state)) {
+      return state;
+    }
+  }
+  return std::nullopt;
+}
+
+bool isConverged(RegistrationState state) {
+  return state == RegistrationState::kTransform || state == RegistrationState::kAbsMse ||
+         state == RegistrationState::kRelMse;
+}
+
+std::size_t minimumSourcePoints(RegistrationMethod method) {
+  return method == RegistrationMethod::kIcpNl ? 4 : 3;
+}
+
+ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
+                                        const std::optional<double>& min_z) {
+  ModelCloud::Ptr source(new ModelCloud);
+  if (!min_z) {
+    *source = object;
+    return source;
+  }
+  source->reserve(object.size());
+  for (const pcl::PointXYZ& point : object.points) {
+    if (point.z >= *min_z) {
+      source->push_back(point);
+    }
+  }
+  return source;
+}
+
+PairResult failedPair() {
+  PairResult result;
+  result.state = RegistrationState::kFailed;
+  return result;
+}
+
+}  // namespace granular

@@ -1,0 +1,36 @@
+#include "granular_core/registration/registration_config.h"
+
+#include <stdexcept>
+#include <vector>
+
+#include "granular_core/text.h"
+
+namespace granular {
+
+std::map<std::string, RegistrationClassifierConfig> registrationPresets() {
+  // Chosen on training drives only (scripts/tune_registration); config/classification.yaml and
+  // docs/classification.md record the search.
+  RegistrationClassifierConfig tuned;
+  tuned.icp.max_iterations = 100;
+  tuned.icp.max_correspondence_distance = 0.05;
+  tuned.icp_nl.max_iterations = 30;
+  tuned.icp_nl.max_correspondence_distance = 0.1;
+  tuned.ndt.resolution = 0.3;
+  tuned.ndt.min_points_per_voxel = 3;
+  tuned.source_min_z = 0.2;
+  return {{"report", RegistrationClassifierConfig()}, {"tuned", tuned}};
+}
+
+const RegistrationClassifierConfig& RegistrationPresets::preset(const std::string& name) const {
+  const auto found = presets.find(name);
+  if (found == presets.end()) {
+    std::vector<std::string> known;
+    for (const auto& [known_name, unused] : presets) {
+      known.push_back(known_name);
+    }
+    throw std::invalid_argument("no preset '" + name + "' (known: " + joined(known) + ")");
+  }
+  return found->second;
+}
+
+}  // namespace granular

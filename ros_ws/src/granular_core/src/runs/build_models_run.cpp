@@ -1,0 +1,266 @@
+#include "granular_core/runs/build_models_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <iomanip>
+#include <set>
+#include <stdexcept>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/models/concatenate.h"
+#include "granular_core/models/icp_concatenate.h"
+#include "granular_core/dataset/mesh_ply.h"
+#include "granular_core/models/mesh.h"
+#include "granular_core/text.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+
+// The absolute path without a trailing separator, so that it has a file name.
+fs::path absolutePath(const fs::path& path) {
+  fs::path absolute = fs::weakly_canonical(fs::absolute(path));
+  return absolute.has_filename() ? absolute : absolute.parent_path();
+}
+
+// True when `path` is `folder` or lies inside it.
+bool isWithin(const fs::path& path, const fs::path& folder) {
+  const fs::path relative = path.lexically_relative(folder);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+Json runJson(const fs::path& objects, const ModelBuildConfig& config, bool mesh) {
+  Json run = {{"method", methodName(config.method)},
+              {"objects_folder", objects.string()},
+              {"point_type", "pcl::PointXYZ: x y z, float32, metres, object frame (origin at "
+                             "the centre of the box's bottom face, x forward, y left, z up)"}};
+  if (config.method == ConcatenationMethod::kIcp) {
+    run["icp"] = config::toJson(config.icp);
+    run["seed"] = config::toJson(config.seed);
+  }
+  if (mesh) {
+    run["mesh"] = config::toJson(config.mesh);
+  }
+  return run;
+}
+
+Json classJson(const ClassModelSummary& summary, const std::vector<fs::path>& files,
+               const ModelBuildConfig& config, bool written, bool mesh) {
+  Json entry = {{"objects", summary.objects}, {"kept", summary.kept}};
+  if (config.method == ConcatenationMethod::kIcp && summary.objects > 0) {
+    Json seed_objects = Json::array();
+    for (const std::size_t index : summary.seed_objects) {
+      seed_objects.push_back(files[index].filename().string());
+    }
+    entry["icp"] = {{"seed", {{"source", summary.seed_source},
+                              {"points", summary.seed_points},
+                              {"objects", seed_objects},
+                              {"missing_sides", summary.missing_sides}}},
+                    {"verdicts", summary.verdicts},
+                    {"convergence", summary.convergence}};
+  }
+  entry["raw_points"] = summary.raw_points;
+  Json stages = Json::array();
+  for (const StageResult& stage : summary.stages) {
+    stages.push_back({{"stage", stageName(stage.stage)}, {"points", stage.points}});
+  }
+  entry["stages"] = stages;
+  entry["points"] = summary.points;
+  entry["filters"] = config::toJson(summary.filters);
+  entry["seconds"] = summary.seconds;
+  if (written) {
+    Json outputs = {{"model", summary.label + ".pcd"}, {"raw", "raw/" + summary.label + ".pcd"}};
+    if (mesh) {
+      outputs["mesh"] = "mesh/" + summary.label + ".ply";
+      entry["mesh_polygons"] = summary.mesh_polygons;
+    }
+    entry["files"] = outputs;
+  }
+  entry["warnings"] = summary.warnings;
+  return entry;
+}
+
+}  // namespace
+
+void BuildModelsSummary::reportClass(const ClassModelSummary& model, std::ostream& log) {
+  log << model.label << ": " << model.objects << " objects, " << model.kept << " kept, "
+      << model.raw_points << " raw points, " << model.points << " model points, " << std::fixed
+      << std::setprecision(2) << model.seconds << " s\n";
+  for (const std::string& warning : model.warnings) {
+    log << model.label << ": warning: " << warning << '\n';
+  }
+}
+
+void BuildModelsSummary::report(std::ostream& out, std::ostream& log) const {
+  for (const std::string& line : cleared) {
+    log << "cleared: " << line << '\n';
+  }
+  for (const std::string& warning : warnings) {
+    log << "warning: " << warning << '\n';
+  }
+  out << "models (" << methodName(method)
+      << " concatenation; points after each filter stage, '-' not run):\n";
+  // The class column as wide as the longest label, so that long real labels keep the table.
+  int width = 12;
+  for (const ClassModelSummary& model : classes) {
+    width = std::max(width, static_cast<int>(model.label.size()));
+  }
+  out << "  " << std::left << std::setw(width) << "class" << std::right << ' ' << std::setw(8)
+      << "objects" << ' ' << std::setw(8) << "kept" << ' ' << std::setw(9) << "raw";
+  for (const auto& [stage, name] : config::EnumNames<FilterStage>::values) {
+    out << ' ' << std::setw(19) << name;
+  }
+  out << ' ' << std::setw(8) << "seconds" << '\n';
+  for (const ClassModelSummary& model : classes) {
+    out << "  " << std::left << std::setw(width) << model.label << std::right << ' '
+        << std::setw(8) << model.objects << ' ' << std::setw(8) << model.kept << ' '
+        << std::setw(9) << model.raw_points;
+    for (const auto& [stage, name] : config::EnumNames<FilterStage>::values) {
+      std::string cell = "-";
+      for (const StageResult& result : model.stages) {
+        if (result.stage == stage) {
+          cell = std::to_string(result.points);
+        }
+      }
+      out << ' ' << std::setw(19) << cell;
+    }
+    out << ' ' << std::setw(8) << std::fixed << std::setprecision(2) << model.seconds << '\n';
+  }
+  out << "total: " << classes.size() << " classes, " << std::fixed << std::setprecision(2)
+      << seconds << " s\n";
+}
+
+BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
+                               const ModelBuildConfig& config,
+                               const BuildModelsOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(config);
+  BuildModelsSummary summary;
+  summary.method = config.method;
+  std::vector<std::string> unnamed;
+  const std::map<std::string, std::vector<fs::path>> files = listObjectFiles(objects, &unnamed);
+  if (!unnamed.empty()) {
+    summary.warnings.push_back(std::to_string(unnamed.size()) +
+                               " PCD file(s) without a class in their name ignored, e.g. " +
+                               unnamed.front());
+  }
+  if (files.empty()) {
+    throw std::runtime_error(objects.string() +
+                             ": no object PCDs (<Class>-<stamp>-<index>.pcd) in this folder");
+  }
+
+  std::set<std::string> labels(options.classes.begin(), options.classes.end());
+  if (labels.empty()) {
+    for (const auto& [label, paths] : files) {
+      labels.insert(label);
+    }
+  }
+  if (std::none_of(labels.begin(), labels.end(),
+                   [&](const std::string& label) { return files.count(label) != 0; })) {
+    const std::vector<std::string> requested(labels.begin(), labels.end());
+    throw std::runtime_error(objects.string() + ": none of the requested classes (" +
+                             joined(requested) + ") has objects here");
+  }
+  for (const auto& [label, file] : options.seeds) {
+    if (labels.count(label) == 0) {
+      throw std::runtime_error(file.string() + ": seed for class '" + label +
+                               "', which is not being built");
+    }
+  }
+  if (!options.seeds.empty() && config.method != ConcatenationMethod::kIcp) {
+    summary.warnings.push_back("seed PCDs are used by the icp method only; ignored");
+  }
+
+  const fs::path target = absolutePath(out);
+  if (isWithin(absolutePath(objects), target)) {
+    throw std::runtime_error(target.string() +
+                             ": output folder is or holds the objects folder; refusing to "
+                             "replace it");
+  }
+  checkOutputFolder(target, options.output);
+
+  std::map<std::string, ModelCloud> seeds;
+  if (config.method == ConcatenationMethod::kIcp) {
+    for (const auto& [label, file] : options.seeds) {
+      seeds[label] = readModelPcd(file);
+      if (seeds[label].empty()) {
+        throw std::runtime_error(file.string() + ": seed PCD has no finite points");
+      }
+    }
+  }
+
+  OutputFolder output(target, "build_models", options.output);
+  summary.cleared = output.cleared();
+  const fs::path& staging = output.staging();
+  fs::create_directory(staging / "raw");
+  if (options.mesh) {
+    fs::create_directory(staging / "mesh");
+  }
+
+  Json classes = Json::object();
+  for (const std::string& label : labels) {
+    const auto found = files.find(label);
+    const std::vector<fs::path> paths =
+        found == files.end() ? std::vector<fs::path>() : found->second;
+    std::vector<ModelCloud> clouds;
+    clouds.reserve(paths.size());
+    std::size_t non_finite = 0;
+    for (const fs::path& path : paths) {
+      std::size_t dropped = 0;
+      clouds.push_back(toModelCloud(readPcd(path), &dropped));
+      non_finite += dropped;
+    }
+
+    const auto seed = seeds.find(label);
+    std::function<void(std::size_t, std::size_t)> progress;
+    if (options.progress) {
+      progress = [&](std::size_t done, std::size_t total) {
+        options.progress(label, done, total);
+      };
+    }
+    ClassModel model = buildClassModel(label, clouds, config,
+                                       seed == seeds.end() ? nullptr : &seed->second, progress);
+    ClassModelSummary& result = model.summary;
+    if (non_finite > 0) {
+      result.warnings.push_back(std::to_string(non_finite) + " non-finite points dropped");
+    }
+    if (config.method == ConcatenationMethod::kIcp && seed != seeds.end()) {
+      result.seed_source = options.seeds.at(label).string();
+    }
+
+    const bool written = !model.model.empty();
+    if (written) {
+      writeModelPcd(staging / modelFileName(label), model.model);
+      writeModelPcd(staging / "raw" / modelFileName(label), model.raw);
+      if (options.mesh) {
+        const pcl::PolygonMesh mesh = triangulate(model.model, config.mesh);
+        result.mesh_polygons = mesh.polygons.size();
+        writeMeshPly(staging / "mesh" / (encodeLabel(label) + ".ply"), mesh);
+      }
+    }
+    classes[label] = classJson(result, paths, config, written, options.mesh);
+    if (options.class_done) {
+      options.class_done(result);
+    }
+    summary.classes.push_back(std::move(result));
+  }
+
+  Json document = runJson(absolutePath(objects), config, options.mesh);
+  document["classes"] = classes;
+  document["warnings"] = summary.warnings;
+  writeFile(staging / "models.json", document.dump(2) + "\n", "JSON");
+  output.commit();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace granular

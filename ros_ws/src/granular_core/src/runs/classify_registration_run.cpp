@@ -1,0 +1,237 @@
+#include "granular_core/runs/classify_registration_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/models_folder.h"
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/text.h"
+
+namespace granular {
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::json parameters(RegistrationMethod method, const RegistrationClassifierConfig& config) {
+  nlohmann::json json = nlohmann::json::parse(
+      (method == RegistrationMethod::kNdt ? config::toJson(config.ndt)
+       : method == RegistrationMethod::kIcp ? config::toJson(config.icp)
+                                            : config::toJson(config.icp_nl))
+          .dump());
+  json["source_min_z"] =
+      config.source_min_z ? nlohmann::json(*config.source_min_z) : nlohmann::json(nullptr);
+  json["min_source_points"] = minimumSourcePoints(method);
+  return json;
+}
+
+nlohmann::json pairJson(const PairResult& result) {
+  nlohmann::json json = {{"converged", result.converged()},
+                         {"state", registrationStateName(result.state)},
+                         {"iterations", result.iterations}};
+  if (result.ran() && std::isfinite(result.fitness)) {
+    json["fitness"] = result.fitness;
+  } else {
+    json["fitness"] = nullptr;
+  }
+  if (result.ran()) {
+    nlohmann::json transform = nlohmann::json::array();
+    for (int row = 0; row < 4; ++row) {
+      for (int column = 0; column < 4; ++column) {
+        transform.push_back(result.transform(row, column));
+      }
+    }
+    json["transform"] = transform;
+  } else {
+    json["transform"] = nullptr;
+  }
+  return json;
+}
+
+}  // namespace
+
+
+double CriterionSummary::accuracy() const {
+  return labelled == 0 ? 0.0 : static_cast<double>(correct) / static_cast<double>(labelled);
+}
+
+CriterionSummary ClassificationRun::summary(int criterion) const {
+  CriterionSummary summary;
+  for (const ObjectRecord& object : objects) {
+    const std::optional<std::size_t>& prediction = object.predictions.criterion(criterion);
+    if (!prediction) {
+      ++summary.missing;
+      continue;
+    }
+    ++summary.predicted;
+    if (!object.true_label.empty()) {
+      ++summary.labelled;
+      if (models.at(*prediction) == object.true_label) {
+        ++summary.correct;
+      }
+    }
+  }
+  return summary;
+}
+
+void ClassificationRun::report(std::ostream& out) const {
+  char line[200];
+  std::snprintf(line, sizeof(line), "%s (%s): %zu objects against %zu models in %.2f s on %d threads\n",
+                registrationMethodName(method), preset.c_str(), objects.size(), models.size(),
+                seconds, threads);
+  out << line;
+  for (int criterion = 1; criterion <= 3; ++criterion) {
+    const CriterionSummary counts = summary(criterion);
+    std::snprintf(line, sizeof(line),
+                  "  criterion %d: %zu predicted, %zu without a prediction, accuracy %.3f of "
+                  "the predicted\n",
+                  criterion, counts.predicted, counts.missing, counts.accuracy());
+    out << line;
+  }
+}
+
+ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects,
+                                 RegistrationMethod method,
+                                 const RegistrationClassifierConfig& config,
+                                 const ClassifyFolderOptions& options) {
+  validate(config);
+  ClassificationRun run;
+  run.method = method;
+  run.preset = options.preset;
+  run.config = config;
+  const auto warn = [&](const std::string& warning) {
+    run.warnings.push_back(warning);
+    if (options.warn) {
+      options.warn(warning);
+    }
+  };
+
+  std::vector<LabelledModel> class_models = readClassModels(models);
+  for (const LabelledModel& model : class_models) {
+    run.models.push_back(model.label);
+  }
+
+  std::map<std::string, std::vector<fs::path>> by_class;
+  const std::vector<fs::path> files = listAllObjectFiles(objects, &by_class);
+  std::vector<std::string> unnamed;
+  for (const fs::path& file : files) {
+    if (objectClass(file).empty()) {
+      unnamed.push_back(file.filename().string());
+    }
+  }
+
+  std::vector<std::string> without_model;
+  for (const auto& [label, paths] : by_class) {
+    if (std::find(run.models.begin(), run.models.end(), label) == run.models.end()) {
+      without_model.push_back(label + " (" + std::to_string(paths.size()) + ")");
+    }
+  }
+  if (!without_model.empty()) {
+    warn("objects of classes without a model in " + models.string() + ": " +
+         joined(without_model) + "; they are predicted among the models there are (" +
+         joined(run.models) + ") and count as wrong");
+  }
+  if (!unnamed.empty()) {
+    warn(std::to_string(unnamed.size()) +
+         " object PCD(s) without a class in their name (e.g. " + unnamed.front() +
+         ") are classified without a true label");
+  }
+
+  std::vector<ModelCloud> clouds(files.size());
+  run.objects.resize(files.size());
+  std::size_t points = 0;
+  std::size_t below = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    clouds[i] = readModelPcd(files[i]);
+    ObjectRecord& record = run.objects[i];
+    record.file = files[i].filename().string();
+    record.true_label = objectClass(files[i]);
+    record.points = clouds[i].size();
+    record.points_used =
+        config.source_min_z ? clouds[i].size() - pointsBelow(clouds[i], *config.source_min_z)
+                            : clouds[i].size();
+    points += clouds[i].size();
+    below += pointsBelow(clouds[i], kBoxCentredDepth);
+  }
+  if (points > 0 &&
+      static_cast<double>(below) > kBoxCentredShare * static_cast<double>(points)) {
+    warn(percent(static_cast<double>(below) / static_cast<double>(points)) +
+         " of the object points lie below z = -0.1 m: the objects look box-centred (z = 0 at "
+         "half the box's height), while the models are in the object frame (z = 0 on the "
+         "road); expect poor matches");
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const RegistrationClassifier classifier(method, config, std::move(class_models));
+  for (const std::string& warning : classifier.warnings()) {
+    warn(warning);
+  }
+  const std::vector<std::vector<PairResult>> results =
+      classifier.registerObjects(clouds, options.registration);
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.threads = registrationThreads(options.registration);
+
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    run.objects[i].per_model = results[i];
+    run.objects[i].predictions = predict(results[i]);
+  }
+  return run;
+}
+
+void writeClassificationJson(const fs::path& file, const ClassificationRun& run) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectRecord& object : run.objects) {
+    nlohmann::json per_model = nlohmann::json::object();
+    for (std::size_t m = 0; m < object.per_model.size(); ++m) {
+      per_model[run.models.at(m)] = pairJson(object.per_model[m]);
+    }
+    nlohmann::json predictions = nlohmann::json::object();
+    for (int criterion = 1; criterion <= 3; ++criterion) {
+      const std::optional<std::size_t>& prediction = object.predictions.criterion(criterion);
+      predictions["criterion" + std::to_string(criterion)] =
+          prediction ? nlohmann::json(run.models.at(*prediction)) : nlohmann::json(nullptr);
+    }
+    objects.push_back({{"file", object.file},
+                       {"true_label", object.true_label.empty()
+                                          ? nlohmann::json(nullptr)
+                                          : nlohmann::json(object.true_label)},
+                       {"points", object.points},
+                       {"points_used", object.points_used},
+                       {"per_model", per_model},
+                       {"predictions", predictions}});
+  }
+  nlohmann::json missing = nlohmann::json::object();
+  nlohmann::json accuracy = nlohmann::json::object();
+  for (int criterion = 1; criterion <= 3; ++criterion) {
+    const std::string key = "criterion" + std::to_string(criterion);
+    const CriterionSummary summary = run.summary(criterion);
+    missing[key] = summary.missing;
+    accuracy[key] = {{"predicted", summary.predicted},
+                     {"labelled", summary.labelled},
+                     {"correct", summary.correct},
+                     {"accuracy", summary.accuracy()}};
+  }
+  const nlohmann::json document = {{"method", registrationMethodName(run.method)},
+                                   {"preset", run.preset},
+                                   {"parameters", parameters(run.method, run.config)},
+                                   {"models", run.models},
+                                   {"seconds", run.seconds},
+                                   {"threads", run.threads},
+                                   {"objects", objects},
+                                   {"missing", missing},
+                                   {"accuracy", accuracy},
+                                   {"warnings", run.warnings}};
+
+  writeFileAtomically(file, document.dump(1) + "\n", "JSON");
+}
+
+}  // namespace granular

@@ -1,0 +1,221 @@
+#include "granular_core/runs/classify_supervised_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <exception>
+#include <map>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <nlohmann/json.hpp>
+
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/dataset/object_names.h"
+
+namespace granular {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double microsecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+}
+
+std::size_t finitePoints(const Cloud& cloud) {
+  return static_cast<std::size_t>(std::count_if(
+      cloud.points.begin(), cloud.points.end(), [](const PointXYZIT& p) {
+        return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+      }));
+}
+
+// Runs work(i) for every object on `threads` threads; the first exception is rethrown.
+template <typename Work>
+void forEachObject(std::size_t count, int threads, Work work,
+                   const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::size_t done = 0;
+  std::exception_ptr error;
+#ifdef _OPENMP
+  const int team = threads > 0 ? threads : omp_get_max_threads();
+#endif
+#pragma omp parallel for schedule(dynamic, 8) num_threads(team)
+  for (long i = 0; i < static_cast<long>(count); ++i) {
+    try {
+      work(static_cast<std::size_t>(i));
+    } catch (...) {
+#pragma omp critical(granular_supervised_error)
+      error = error ? error : std::current_exception();
+    }
+#pragma omp critical(granular_supervised_progress)
+    {
+      ++done;
+      if (progress) {
+        progress(done, count);
+      }
+    }
+  }
+  if (error) {
+    std::rethrow_exception(error);
+  }
+}
+
+}  // namespace
+
+FolderFeatures computeFolderFeatures(const fs::path& folder, FeatureKind kind,
+                                     const PointHistogramConfig& config, int threads,
+                                     const std::function<void(std::size_t, std::size_t)>& progress) {
+  validate(config);
+  const std::vector<fs::path> files = listAllObjectFiles(folder);
+  FolderFeatures result;
+  result.files.resize(files.size());
+  result.labels.resize(files.size());
+  result.points.resize(files.size());
+  result.features.resize(files.size());
+  result.microseconds.resize(files.size());
+  forEachObject(
+      files.size(), threads,
+      [&](std::size_t i) {
+        const Cloud object = readPcd(files[i]);
+        const auto start = Clock::now();
+        result.features[i] = objectFeatures(object, kind, config);
+        result.microseconds[i] = microsecondsSince(start);
+        result.files[i] = files[i].filename().string();
+        result.labels[i] = objectClass(files[i]);
+        result.points[i] = finitePoints(object);
+      },
+      progress);
+  return result;
+}
+
+SupervisedRun classifyFolderSupervised(const SupervisedClassifier& classifier,
+                                       const fs::path& folder, int threads,
+                                       const std::function<void(std::size_t, std::size_t)>& progress) {
+  const auto start = Clock::now();
+  const std::vector<fs::path> files = listAllObjectFiles(folder);
+  SupervisedRun run;
+  run.method = classifier.method();
+  run.files.resize(files.size());
+  run.true_labels.resize(files.size());
+  run.points.resize(files.size());
+  run.predicted.resize(files.size());
+  std::vector<double> microseconds(files.size());
+  forEachObject(
+      files.size(), threads,
+      [&](std::size_t i) {
+        const Cloud object = readPcd(files[i]);
+        const auto begin = Clock::now();
+        run.predicted[i] = classifier.predict(classifier.features(object));
+        microseconds[i] = microsecondsSince(begin);
+        run.files[i] = files[i].filename().string();
+        run.true_labels[i] = objectClass(files[i]);
+        run.points[i] = finitePoints(object);
+      },
+      progress);
+  run.seconds = microsecondsSince(start) / 1e6;
+  run.microseconds_per_object =
+      std::accumulate(microseconds.begin(), microseconds.end(), 0.0) / files.size();
+
+  const std::set<std::string> known(classifier.labels().begin(), classifier.labels().end());
+  std::map<std::string, std::size_t> unknown;
+  std::size_t small = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (!run.true_labels[i].empty() && known.count(run.true_labels[i]) == 0) {
+      ++unknown[run.true_labels[i]];
+    }
+    small += run.points[i] < 3;
+  }
+  for (const auto& [label, count] : unknown) {
+    run.warnings.push_back(std::to_string(count) + " object(s) of class " + label +
+                           ", which the classifier was not trained on; they count as wrong");
+  }
+  if (small > 0) {
+    run.warnings.push_back(std::to_string(small) +
+                           " object(s) with fewer than 3 points, classified from what they have");
+  }
+  return run;
+}
+
+void SupervisedRun::report(std::ostream& out) const {
+  std::size_t correct = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    correct += true_labels[i] == predicted[i];
+  }
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "%s: %zu objects in %.2f s, %.0f us per object on one core, accuracy %.3f\n",
+                supervisedMethodName(method), files.size(), seconds, microseconds_per_object,
+                files.empty() ? 0.0 : static_cast<double>(correct) / files.size());
+  out << line;
+}
+
+TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod method,
+                          const SupervisedConfig& config, int threads,
+                          const std::function<void(std::size_t, std::size_t)>& progress) {
+  const FolderFeatures features =
+      computeFolderFeatures(folder, featureKindOf(method), config.histograms, threads, progress);
+  TrainingSummary summary;
+  SupervisedClassifier classifier =
+      SupervisedClassifier::train(method, config, features.features, features.labels, &summary);
+  return {std::move(classifier), summary};
+}
+
+void TrainingRun::report(std::ostream& out) const {
+  char line[240];
+  std::snprintf(line, sizeof(line), "%s: trained on %zu objects of %zu classes in %.2f s",
+                supervisedMethodName(classifier.method()), summary.objects,
+                classifier.labels().size(), summary.seconds);
+  out << line;
+  if (classifier.method() != SupervisedMethod::kKnn) {
+    std::snprintf(line, sizeof(line),
+                  "; nu %.3g, gamma %.3g (%zu pairs tried, cross-validated accuracy %.3f)",
+                  summary.nu, summary.gamma, summary.grid_points, summary.cross_validation);
+    out << line;
+  }
+  out << '\n';
+}
+
+void writeSupervisedJson(const fs::path& file, const SupervisedRun& run,
+                         const SupervisedClassifier& classifier) {
+  nlohmann::json objects = nlohmann::json::array();
+  std::size_t labelled = 0, correct = 0;
+  for (std::size_t i = 0; i < run.files.size(); ++i) {
+    const bool has_label = !run.true_labels[i].empty();
+    labelled += has_label;
+    correct += has_label && run.true_labels[i] == run.predicted[i];
+    objects.push_back({{"file", run.files[i]},
+                       {"true_label", has_label ? nlohmann::json(run.true_labels[i])
+                                                : nlohmann::json(nullptr)},
+                       {"points", run.points[i]},
+                       {"predictions", {{"label", run.predicted[i]}}}});
+  }
+  const TrainingSummary& training = classifier.training();
+  const nlohmann::json document = {
+      {"method", supervisedMethodName(run.method)},
+      {"primary", "label"},
+      {"features", featureKindName(featureKindOf(run.method))},
+      {"labels", classifier.labels()},
+      {"seconds", run.seconds},
+      {"seconds_to_train", training.seconds},
+      {"microseconds_per_object", run.microseconds_per_object},
+      {"training",
+       {{"objects", training.objects},
+        {"nu", training.nu},
+        {"gamma", training.gamma},
+        {"cross_validation", training.cross_validation},
+        {"grid_points", training.grid_points}}},
+      {"objects", objects},
+      {"accuracy", labelled > 0 ? static_cast<double>(correct) / labelled : 0.0},
+      {"warnings", run.warnings}};
+
+  writeFileAtomically(file, document.dump(1) + "\n", "JSON");
+}
+
+}  // namespace granular

@@ -1,0 +1,272 @@
+#include "granular_core/runs/extract_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iomanip>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "granular_core/dataset/detections.h"
+#include "granular_core/extraction/extract_objects.h"
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/output_folder.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/text.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kIndexHeader =
+    "file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad\n";
+
+// Stems of the files in `folder` with the given extension; sorted, so equal-length numeric
+// stamps come out in time order.
+std::set<std::string> stems(const fs::path& folder, const std::string& extension) {
+  if (!fs::is_directory(folder)) {
+    throw std::runtime_error(folder.string() + ": no such folder (a bag-to-files folder has " +
+                             "pcd/ and detections_3d/)");
+  }
+  std::set<std::string> result;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().extension() == extension) {
+      result.insert(entry.path().stem().string());
+    }
+  }
+  return result;
+}
+
+// Stamps with both files, in order; each unpaired file is added to `skipped` with the reason.
+std::vector<std::string> pairStamps(const std::set<std::string>& pcd_stamps,
+                                    const std::set<std::string>& json_stamps,
+                                    std::vector<std::string>& skipped) {
+  std::vector<std::string> paired;
+  for (const std::string& stamp : pcd_stamps) {
+    if (json_stamps.count(stamp) != 0) {
+      paired.push_back(stamp);
+    } else {
+      skipped.push_back(stamp + ": no detections_3d/" + stamp + ".json");
+    }
+  }
+  for (const std::string& stamp : json_stamps) {
+    if (pcd_stamps.count(stamp) == 0) {
+      skipped.push_back(stamp + ": no pcd/" + stamp + ".pcd");
+    }
+  }
+  return paired;
+}
+
+
+struct ObjectsFolder {
+  std::size_t threshold;
+  fs::path path;
+  std::ostringstream index;  ///< index.csv, written once complete
+};
+
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) {
+    return text;
+  }
+  std::string quoted = "\"";
+  for (const char c : text) {
+    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  }
+  return quoted + '"';
+}
+
+std::string indexRow(const std::string& file, const ExtractedObject& object,
+                     const std::string& stamp) {
+  const Eigen::Vector3d& size = object.box.size();
+  std::ostringstream row;
+  row << csvField(file) << ',' << csvField(object.detection.label) << ','
+      << object.detection.id << ',' << csvField(stamp) << ',' << object.cloud.size() << ','
+      << std::fixed << std::setprecision(4) << object.box.range() << ',' << size.x() << ','
+      << size.y() << ',' << size.z() << ',' << std::setprecision(6) << object.box.yaw() << '\n';
+  return row.str();
+}
+
+void linkOrCopy(const fs::path& from, const fs::path& to) {
+  std::error_code error;
+  fs::create_hard_link(from, to, error);
+  if (error) {
+    fs::copy_file(from, to);
+  }
+}
+
+// At most kShown lines of `lines` under `title`.
+void reportList(std::ostream& log, const char* title, const std::vector<std::string>& lines) {
+  constexpr std::size_t kShown = 10;
+  if (lines.empty()) {
+    return;
+  }
+  log << title << " (" << lines.size() << "):\n";
+  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i) {
+    log << "  " << lines[i] << '\n';
+  }
+  if (lines.size() > kShown) {
+    log << "  ... and " << lines.size() - kShown << " more\n";
+  }
+}
+
+}  // namespace
+
+void ExtractFolderSummary::report(std::ostream& out, std::ostream& log) const {
+  reportList(log, "cleared", cleared);
+  reportList(log, "warnings", warnings);
+  reportList(log, "frames skipped", frames_skipped);
+  reportList(log, "invalid detections skipped", invalid_detections);
+
+  char line[160];
+  std::snprintf(line, sizeof(line), "frames: %zu extracted, %zu skipped, %.2f s, %.1f frames/s\n",
+                frames_read, frames_skipped.size(), seconds,
+                seconds > 0.0 ? static_cast<double>(frames_read) / seconds : 0.0);
+  out << line << "invalid detections: " << invalid_detections.size()
+      << ", non-finite points: " << non_finite_points << '\n';
+
+  std::map<std::string, std::map<std::size_t, std::size_t>> by_label;
+  for (const auto& [threshold, labels] : objects) {
+    for (const auto& [label, count] : labels) {
+      by_label[label][threshold] = count;
+    }
+  }
+  // The label column as wide as the longest label, so that long real labels keep the table.
+  int width = 16;
+  for (const auto& [label, counts] : by_label) {
+    width = std::max(width, static_cast<int>(label.size()));
+  }
+  out << "objects per label (columns: at least N points):\n  " << std::left << std::setw(width)
+      << "label" << std::right;
+  for (const auto& [threshold, labels] : objects) {
+    out << ' ' << std::setw(8) << "N" + std::to_string(threshold);
+  }
+  out << '\n';
+  std::map<std::size_t, std::size_t> totals;
+  for (const auto& [label, counts] : by_label) {
+    out << "  " << std::left << std::setw(width) << label << std::right;
+    for (const auto& [threshold, labels] : objects) {
+      const auto count = counts.find(threshold);
+      const std::size_t value = count == counts.end() ? 0 : count->second;
+      totals[threshold] += value;
+      out << ' ' << std::setw(8) << value;
+    }
+    out << '\n';
+  }
+  out << "  " << std::left << std::setw(width) << "total" << std::right;
+  for (const auto& [threshold, labels] : objects) {
+    out << ' ' << std::setw(8) << totals[threshold];
+  }
+  out << '\n';
+}
+
+ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
+                                   const ExtractionConfig& config,
+                                   const ExtractFolderOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(config);
+  std::vector<std::size_t> thresholds = config.n_thresh;
+  std::sort(thresholds.begin(), thresholds.end());
+  thresholds.erase(std::unique(thresholds.begin(), thresholds.end()), thresholds.end());
+
+  const fs::path pcd_folder = in / "pcd";
+  const fs::path json_folder = in / "detections_3d";
+  const std::set<std::string> pcd_stamps = stems(pcd_folder, ".pcd");
+  const std::set<std::string> json_stamps = stems(json_folder, ".json");
+
+  ExtractFolderSummary summary;
+  const std::vector<std::string> stamps =
+      pairStamps(pcd_stamps, json_stamps, summary.frames_skipped);
+  if (stamps.empty()) {
+    throw std::runtime_error(in.string() +
+                             ": no PCD in pcd/ has a matching JSON in detections_3d/");
+  }
+
+  OutputFolder output(out, "extract_objects", options.output);
+  summary.cleared = output.cleared();
+
+  std::vector<ObjectsFolder> folders;
+  for (const std::size_t threshold : thresholds) {
+    fs::path path = output.staging();
+    if (thresholds.size() > 1 || options.threshold_folders) {
+      path /= "N" + std::to_string(threshold);
+      fs::create_directory(path);
+    }
+    summary.objects.try_emplace(threshold);
+    std::ostringstream index;
+    index << kIndexHeader;
+    folders.push_back({threshold, std::move(path), std::move(index)});
+  }
+
+  std::set<std::string> seen_labels;  // of every detection, to name them for a label typo
+  for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
+    const std::string& stamp = stamps[frame];
+    const fs::path json_file = json_folder / (stamp + ".json");
+    const std::vector<Detection> detections = readDetectionsJson(json_file);
+    for (const Detection& detection : detections) {
+      seen_labels.insert(detection.label);
+    }
+    const FrameExtraction extraction =
+        extractObjects(readPcd(pcd_folder / (stamp + ".pcd")), detections, config);
+    summary.non_finite_points += extraction.non_finite_points;
+    for (const std::string& error : extraction.errors) {
+      summary.invalid_detections.push_back(json_file.string() + ": " + error);
+    }
+
+    for (const ExtractedObject& object : extraction.objects) {
+      if (object.cloud.size() < thresholds.front()) {
+        continue;
+      }
+      std::string name;
+      try {
+        name = objectFileName(object.detection.label, stamp, object.label_index);
+      } catch (const std::invalid_argument& error) {
+        summary.invalid_detections.push_back(json_file.string() + ": detection id " +
+                                             std::to_string(object.detection.id) + ": " +
+                                             error.what());
+        continue;
+      }
+      const std::string row = indexRow(name, object, stamp);
+      std::optional<fs::path> written;
+      for (ObjectsFolder& folder : folders) {
+        if (object.cloud.size() < folder.threshold) {
+          break;
+        }
+        const fs::path file = folder.path / name;
+        if (written) {
+          linkOrCopy(*written, file);
+        } else {
+          writePcdBinary(file, object.cloud);
+          written = file;
+        }
+        folder.index << row;
+        ++summary.objects[folder.threshold][object.detection.label];
+      }
+    }
+    ++summary.frames_read;
+    if (options.progress) {
+      options.progress(frame + 1, stamps.size());
+    }
+  }
+
+  for (const std::string& label : config.labels) {
+    if (seen_labels.count(label) == 0) {
+      summary.warnings.push_back("label '" + label + "' (labels) matches no detection" +
+                                 (seen_labels.empty() ? std::string()
+                                                      : "; labels seen: " + joined(std::vector<std::string>(seen_labels.begin(), seen_labels.end()))));
+    }
+  }
+  for (ObjectsFolder& folder : folders) {
+    writeFile(folder.path / "index.csv", folder.index.str(), "index");
+  }
+  output.commit();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace granular

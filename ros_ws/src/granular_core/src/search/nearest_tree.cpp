@@ -1,0 +1,121 @@
+#include "granular_core/search/nearest_tree.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <pcl/common/transforms.h>
+
+namespace granular {
+namespace {
+
+// Rings of grid cells a query searches before it asks the kd-tree: one settles the queries on
+// and near the model's surface, which are most of them.
+constexpr int kGridRings = 1;
+
+}  // namespace
+
+void NearestTree::setInputCloud(const PointCloudConstPtr& cloud,
+                                const IndicesConstPtr& indices) {
+  pcl::search::KdTree<pcl::PointXYZ>::setInputCloud(cloud, indices);
+  points_.clear();
+  mapping_.clear();
+  const auto add = [&](pcl::index_t i) {
+    const pcl::PointXYZ& point = (*cloud)[static_cast<std::size_t>(i)];
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      points_.insert(points_.end(), {point.x, point.y, point.z});
+      mapping_.push_back(i);
+    }
+  };
+  if (indices) {
+    for (const pcl::index_t i : *indices) {
+      add(i);
+    }
+  } else {
+    for (std::size_t i = 0; i < cloud->size(); ++i) {
+      add(static_cast<pcl::index_t>(i));
+    }
+  }
+  grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings);
+  tree_ = std::make_unique<NearestPoints>(points_.data(), mapping_.size());
+}
+
+void NearestTree::setCorrespondenceBound(double max_distance) {
+  // The smallest float above every float distance d with d <= max_distance^2 (double), as PCL
+  // compares them.
+  const double limit = max_distance * max_distance;
+  float bound = static_cast<float>(limit);
+  if (static_cast<double>(bound) < limit) {
+    bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
+  }
+  correspondence_bound_ = std::nextafter(bound, std::numeric_limits<float>::infinity());
+}
+
+int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
+                                std::vector<float>& k_sqr_distances) const {
+  if (k != 1 || mapping_.empty()) {
+    return pcl::search::KdTree<pcl::PointXYZ>::nearestKSearch(point, k, k_indices,
+                                                              k_sqr_distances);
+  }
+  const float query[3] = {point.x, point.y, point.z};
+  const NearestGrid::Result nearest = nearestWithin(query, correspondence_bound_);
+  k_indices.assign(1, nearest.found ? mapping_[nearest.index] : 0);
+  k_sqr_distances.assign(
+      1, nearest.found ? nearest.distance : std::numeric_limits<float>::infinity());
+  return 1;
+}
+
+double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const {
+  if (mapping_.empty() || source.empty()) {
+    return std::numeric_limits<double>::max();
+  }
+  // Most points of most pairs lie far from the model (the wrong classes), where the grid's
+  // rings cannot settle them: all go to the kd-tree, kPacket neighbours in the scan at a time.
+  ModelCloud moved;
+  pcl::transformPointCloud(source, moved, transform);
+  constexpr int kPacket = NearestPoints::kPacket;
+  std::vector<float> distances(moved.size());
+  for (std::size_t first = 0; first < moved.size(); first += kPacket) {
+    float queries[kPacket][3];
+    float bounds[kPacket];
+    for (int lane = 0; lane < kPacket; ++lane) {
+      // The last packet is filled up with its last point again.
+      const pcl::PointXYZ& point = moved[std::min(first + lane, moved.size() - 1)];
+      std::copy(point.data, point.data + 3, queries[lane]);
+      bounds[lane] = std::numeric_limits<float>::infinity();
+      if (first > 0) {
+        // No farther than the previous point's nearest model point: at most the previous
+        // distance plus the step between the two points (widened for rounding).
+        const pcl::PointXYZ& previous = moved[first - 1];
+        const double step =
+            std::sqrt(static_cast<double>(flannSquaredDistance(queries[lane], previous.data)));
+        const double reach = std::sqrt(static_cast<double>(distances[first - 1])) + step;
+        bounds[lane] = static_cast<float>(reach * reach * (1.0 + 1.0e-5) + 1.0e-30);
+      }
+    }
+    float nearest[kPacket];
+    tree_->nearestDistances(queries, bounds, nearest);
+    std::copy(nearest, nearest + std::min<std::size_t>(kPacket, moved.size() - first),
+              distances.begin() + static_cast<std::ptrdiff_t>(first));
+  }
+  double sum = 0.0;
+  for (const float distance : distances) {
+    sum += distance;
+  }
+  return sum / static_cast<double>(distances.size());
+}
+
+NearestGrid::Result NearestTree::nearestWithin(const float query[3], float bound) const {
+  NearestGrid::Result nearest = grid_->nearest(query, bound);
+  if (nearest.resolved) {
+    return nearest;
+  }
+  const NearestPoints::Result exact = tree_->nearest(
+      query, nearest.found ? std::nextafter(nearest.distance, std::numeric_limits<float>::infinity())
+                           : bound);
+  nearest.found = exact.found;
+  nearest.index = exact.index;
+  nearest.distance = exact.distance;
+  return nearest;
+}
+
+}  // namespace granular

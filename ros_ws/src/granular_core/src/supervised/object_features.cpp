@@ -1,0 +1,268 @@
+#include "granular_core/supervised/object_features.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+
+#include "granular_core/search/grid_cells.h"
+
+namespace granular {
+namespace {
+
+std::vector<Eigen::Vector3f> finitePoints(const Cloud& cloud) {
+  std::vector<Eigen::Vector3f> points;
+  points.reserve(cloud.size());
+  for (const PointXYZIT& point : cloud.points) {
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      points.emplace_back(point.x, point.y, point.z);
+    }
+  }
+  return points;
+}
+
+// The points of an object bucketed in cubic cells of `cell` metres, for the neighbourhood
+// queries of every sample: an object's cloud is small, and a query touches a few cells.
+class CellIndex {
+ public:
+  CellIndex(const std::vector<Eigen::Vector3f>& points, double cell)
+      : points_(points), cell_(static_cast<float>(cell)) {
+    low_ = points.front();
+    Eigen::Vector3f high = points.front();
+    for (const Eigen::Vector3f& p : points) {
+      low_ = low_.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      size_[axis] = static_cast<int>((high[axis] - low_[axis]) / cell_) + 1;
+    }
+    std::vector<std::size_t> cell_of(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      cell_of[i] = index(coordinates(points[i]));
+    }
+    lists_ = sortIntoCells(cell_of, static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
+  }
+
+  // Calls visit(point index) for every point in the cells overlapping the box
+  // [centre - half, centre + half].
+  template <typename Visit>
+  void forEachNear(const Eigen::Vector3f& centre, const Eigen::Vector3f& half,
+                   Visit visit) const {
+    const Eigen::Vector3i low = coordinates(centre - half);
+    const Eigen::Vector3i high = coordinates(centre + half);
+    forEachCell(low.data(), high.data(), size_, [&](std::size_t cell) {
+      for (std::uint32_t k = lists_.start[cell]; k < lists_.start[cell + 1]; ++k) {
+        visit(lists_.order[k]);
+      }
+    });
+  }
+
+ private:
+  Eigen::Vector3i coordinates(const Eigen::Vector3f& point) const {
+    Eigen::Vector3i c;
+    for (int axis = 0; axis < 3; ++axis) {
+      const float offset = std::floor((point[axis] - low_[axis]) / cell_);
+      c[axis] = static_cast<int>(std::clamp(offset, -1.0f, static_cast<float>(size_[axis])));
+    }
+    return c;
+  }
+  std::size_t index(const Eigen::Vector3i& c) const {
+    return (static_cast<std::size_t>(c.z()) * size_[1] + c.y()) * size_[0] + c.x();
+  }
+
+  const std::vector<Eigen::Vector3f>& points_;
+  float cell_;
+  Eigen::Vector3f low_;
+  int size_[3] = {1, 1, 1};
+  CellLists lists_;
+};
+
+// The bin of a value in [0, 1] (values outside are clamped to the end bins).
+std::size_t binOf(double value, std::size_t bins) {
+  const double scaled = std::floor(value * static_cast<double>(bins));
+  return static_cast<std::size_t>(std::clamp(scaled, 0.0, static_cast<double>(bins - 1)));
+}
+
+// The mean of `points` (at least one), summed in double.
+Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3f>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : points) {
+    sum += p.cast<double>();
+  }
+  return sum / static_cast<double>(points.size());
+}
+
+}  // namespace
+
+std::size_t featureSize(FeatureKind kind, const PointHistogramConfig& config) {
+  switch (kind) {
+    case FeatureKind::kMeanStd:
+      return 6;
+    case FeatureKind::kPointHistograms:
+      return 4 + (3 + config.cylinder_slices) * config.bins;
+    case FeatureKind::kEsf:
+      return 640;
+  }
+  return 0;
+}
+
+std::array<double, 3> lalondeFeatures(const std::vector<Eigen::Vector3f>& points,
+                                      ScatterDefinition scatter) {
+  if (points.size() < 3) {
+    return {0.0, 0.0, 0.0};
+  }
+  const Eigen::Vector3d mean = meanOf(points);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3f& p : points) {
+    const Eigen::Vector3d d = p.cast<double>() - mean;
+    covariance += d * d.transpose();
+  }
+  covariance /= static_cast<double>(points.size());
+  // Ascending eigenvalues of a positive semi-definite matrix; rounding may leave tiny negatives.
+  const Eigen::Vector3d ascending =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
+          .eigenvalues()
+          .cwiseMax(0.0);
+  const double sum = ascending.sum();
+  if (!(sum > 0.0)) {
+    return {0.0, 0.0, 0.0};
+  }
+  const double d1 = ascending[2] / sum, d2 = ascending[1] / sum, d3 = ascending[0] / sum;
+  return {scatter == ScatterDefinition::kSmallest ? d3 : d1, d1 - d2, d2 - d3};
+}
+
+std::vector<float> meanStdFeatures(const Cloud& object) {
+  const std::vector<Eigen::Vector3f> points = finitePoints(object);
+  std::vector<float> features(6, 0.0f);
+  if (points.empty()) {
+    return features;
+  }
+  const Eigen::Vector3d mean = meanOf(points);
+  Eigen::Vector3d variance = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : points) {
+    variance += (p.cast<double>() - mean).cwiseAbs2();
+  }
+  variance /= static_cast<double>(points.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    features[axis] = static_cast<float>(mean[axis]);
+    features[3 + axis] = static_cast<float>(std::sqrt(variance[axis]));
+  }
+  return features;
+}
+
+std::vector<float> pointHistogramFeatures(const Cloud& object,
+                                          const PointHistogramConfig& config) {
+  validate(config);
+  const std::size_t bins = config.bins;
+  const std::size_t slices = config.cylinder_slices;
+  std::vector<float> features(featureSize(FeatureKind::kPointHistograms, config), 0.0f);
+
+  // Object level: intensity over the finite points, and the volume of their box.
+  std::vector<Eigen::Vector3f> points;
+  std::vector<double> intensities;
+  for (const PointXYZIT& point : object.points) {
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      points.emplace_back(point.x, point.y, point.z);
+      intensities.push_back(point.intensity);
+    }
+  }
+  if (points.empty()) {
+    return features;
+  }
+  const double mean_intensity =
+      std::accumulate(intensities.begin(), intensities.end(), 0.0) / intensities.size();
+  double variance = 0.0;
+  for (const double intensity : intensities) {
+    variance += (intensity - mean_intensity) * (intensity - mean_intensity);
+  }
+  Eigen::Vector3f low = points.front(), high = points.front();
+  for (const Eigen::Vector3f& p : points) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+  }
+  features[0] = static_cast<float>(*std::max_element(intensities.begin(), intensities.end()));
+  features[1] = static_cast<float>(mean_intensity);
+  features[2] = static_cast<float>(variance / intensities.size());
+  features[3] = (high - low).prod();
+
+  // Uniform down-sampling: a repeatable random subset of `sample_points` points.
+  std::vector<std::uint32_t> samples(points.size());
+  std::iota(samples.begin(), samples.end(), 0u);
+  if (samples.size() > config.sample_points) {
+    std::mt19937 random(config.seed);
+    for (std::size_t i = 0; i < config.sample_points; ++i) {
+      std::uniform_int_distribution<std::size_t> pick(i, samples.size() - 1);
+      std::swap(samples[i], samples[pick(random)]);
+    }
+    samples.resize(config.sample_points);
+  }
+
+  const float radius = static_cast<float>(config.neighbour_radius);
+  const float cylinder_radius = static_cast<float>(config.cylinder_radius);
+  const float half_height = static_cast<float>(config.cylinder_height / 2.0);
+  const CellIndex cells(points, std::max(config.neighbour_radius, config.cylinder_radius));
+  const float share = 1.0f / static_cast<float>(samples.size());
+  float* const lalonde_histograms = &features[4];
+  float* const slice_histograms = &features[4 + 3 * bins];
+
+  std::vector<std::pair<float, std::uint32_t>> near;
+  std::vector<Eigen::Vector3f> neighbourhood;
+  std::vector<std::size_t> slice_counts(slices);
+  for (const std::uint32_t sample : samples) {
+    const Eigen::Vector3f& centre = points[sample];
+    near.clear();
+    std::fill(slice_counts.begin(), slice_counts.end(), 0);
+    std::size_t in_cylinder = 0;
+    const Eigen::Vector3f reach(std::max(radius, cylinder_radius), std::max(radius, cylinder_radius),
+                                std::max(radius, half_height));
+    cells.forEachNear(centre, reach, [&](std::uint32_t k) {
+      const Eigen::Vector3f d = points[k] - centre;
+      const float squared = d.squaredNorm();
+      if (squared <= radius * radius) {
+        near.emplace_back(squared, k);
+      }
+      if (d.head<2>().squaredNorm() <= cylinder_radius * cylinder_radius &&
+          std::abs(d.z()) <= half_height) {
+        const double height = (d.z() + half_height) / (2.0 * half_height);
+        ++slice_counts[binOf(height, slices)];
+        ++in_cylinder;
+      }
+    });
+    // The `neighbours` nearest within the radius (the sample itself among them).
+    const std::size_t kept = std::min(near.size(), config.neighbours);
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kept), near.end());
+    if (kept >= 3) {
+      neighbourhood.clear();
+      for (std::size_t n = 0; n < kept; ++n) {
+        neighbourhood.push_back(points[near[n].second]);
+      }
+      const std::array<double, 3> lalonde = lalondeFeatures(neighbourhood, config.scatter);
+      for (std::size_t f = 0; f < 3; ++f) {
+        lalonde_histograms[f * bins + binOf(lalonde[f], bins)] += share;
+      }
+    }
+    // The sample itself is always in its cylinder, so in_cylinder >= 1.
+    for (std::size_t slice = 0; slice < slices; ++slice) {
+      const double fraction = static_cast<double>(slice_counts[slice]) / in_cylinder;
+      slice_histograms[slice * bins + binOf(fraction, bins)] += share;
+    }
+  }
+  return features;
+}
+
+std::vector<float> objectFeatures(const Cloud& object, FeatureKind kind,
+                                  const PointHistogramConfig& config) {
+  switch (kind) {
+    case FeatureKind::kMeanStd:
+      return meanStdFeatures(object);
+    case FeatureKind::kPointHistograms:
+      return pointHistogramFeatures(object, config);
+    case FeatureKind::kEsf:
+      return esfFeatures(object);
+  }
+  throw std::invalid_argument("unknown feature kind");
+}
+
+}  // namespace granular

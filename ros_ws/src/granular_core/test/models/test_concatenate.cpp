@@ -1,0 +1,39 @@
+// Plain concatenation.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/models/concatenate.h"
+#include "support/model_clouds.h"
+
+namespace granular {
+namespace {
+using testing_clouds::boxSurface;
+using testing_clouds::lattice;
+using testing_clouds::shifted;
+using testing_clouds::sphere;
+
+std::vector<Eigen::Vector3f> pointsOf(const ModelCloud& cloud) {
+  std::vector<Eigen::Vector3f> points;
+  for (const pcl::PointXYZ& point : cloud.points) {
+    points.push_back(point.getVector3fMap());
+  }
+  return points;
+}
+
+// ---- concatenation -------------------------------------------------------------------------
+
+TEST(ConcatenateTest, GivesTheUnionInOrder) {
+  const ModelCloud a = lattice({0, 0, 0}, 1.0, 3, 1, 1);
+  const ModelCloud b = lattice({0, 5, 1}, 0.5, 1, 2, 1);
+  const ModelCloud both = concatenate({a, b});
+  ASSERT_EQ(both.size(), 5u);
+  const std::vector<Eigen::Vector3f> expected = {
+      {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 5, 1}, {0, 5.5f, 1}};
+  EXPECT_EQ(pointsOf(both), expected);
+  EXPECT_TRUE(concatenate({}).empty());
+  EXPECT_EQ(pointsOf(concatenate({ModelCloud(), a})), pointsOf(a));
+}
+
+}  // namespace
+}  // namespace granular

@@ -1,0 +1,139 @@
+// RegistrationClassifier: every method tells shapes apart, and the cached, threaded path
+// equals the report's loop (reference.h) bit for bit.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <pcl/common/transforms.h>
+
+#include "granular_core/registration/criteria.h"
+#include "granular_core/registration/reference.h"
+#include "granular_core/registration/registration_classifier.h"
+#include "support/registration_scene.h"
+
+namespace granular {
+namespace {
+using testing_clouds::shifted;
+using testing_support::RegistrationTest;
+
+TEST_F(RegistrationTest, EveryMethodTellsTheShapesApart) {
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    const RegistrationClassifier classifier(method, converging(), models_);
+    const auto results = classifier.registerObjects(objects_);
+    ASSERT_EQ(results.size(), objects_.size());
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+      const Predictions predictions = predict(results[i]);
+      EXPECT_EQ(predictions.criterion3, truth_[i])
+          << registrationMethodName(method) << " object " << i;
+      EXPECT_EQ(predictions.criterion2, truth_[i])
+          << registrationMethodName(method) << " object " << i;
+      EXPECT_TRUE(results[i][truth_[i]].converged())
+          << registrationMethodName(method) << " object " << i << ": "
+          << registrationStateName(results[i][truth_[i]].state);
+    }
+  }
+}
+
+TEST_F(RegistrationTest, IcpRecoversTheOffsetOfAView) {
+  const RegistrationClassifier classifier(RegistrationMethod::kIcp, converging(), models_);
+  const ModelCloud view = shifted(models_[0].cloud, Eigen::Vector3f(0.04f, -0.03f, 0.0f));
+  const PairResult result = classifier.registerObjects({view})[0][0];
+  ASSERT_TRUE(result.converged()) << registrationStateName(result.state);
+  EXPECT_NEAR(result.transform(0, 3), -0.04, 0.01);
+  EXPECT_NEAR(result.transform(1, 3), 0.03, 0.01);
+  EXPECT_LT(result.fitness, 1e-4);
+}
+
+TEST_F(RegistrationTest, TheReportsSingleIterationNeverConverges) {
+  // PCL's hasConverged() is true here; the convergence state says the limit stopped it.
+  const RegistrationClassifier classifier(RegistrationMethod::kIcp,
+                                          RegistrationClassifierConfig(), models_);
+  const auto results = classifier.registerObjects(objects_);
+  for (const auto& per_model : results) {
+    for (const PairResult& result : per_model) {
+      EXPECT_FALSE(result.converged()) << registrationStateName(result.state);
+      EXPECT_EQ(result.iterations, result.state == RegistrationState::kIterations ? 1 : 0);
+    }
+  }
+}
+
+TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
+  // The views, and the same views turned about z by a few degrees, which NDT and ICP take
+  // several steps (and NDT's line search several trials) to undo.
+  std::vector<ModelCloud> objects = objects_;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    ModelCloud turned;
+    const Eigen::Affine3f turn(Eigen::AngleAxisf(0.03f * static_cast<float>(i % 4 + 1),
+                                                 Eigen::Vector3f::UnitZ()));
+    pcl::transformPointCloud(objects_[i], turned, turn);
+    objects.push_back(turned);
+  }
+  int several_steps = 0;
+  RegistrationClassifierConfig fine_ndt = converging();
+  fine_ndt.ndt.resolution = 0.2;
+  fine_ndt.ndt.transformation_epsilon = 1e-4;
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    for (const RegistrationClassifierConfig& config :
+         {RegistrationClassifierConfig(), converging(), fine_ndt}) {
+      if (method != RegistrationMethod::kNdt && config == fine_ndt) {
+        continue;
+      }
+      const RegistrationClassifier classifier(method, config, models_);
+      RegisterOptions options;
+      options.threads = 2;
+      const auto fast = classifier.registerObjects(objects, options);
+      const auto plain = registerObjectsReference(method, config, models_, objects);
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        for (std::size_t m = 0; m < models_.size(); ++m) {
+          EXPECT_EQ(fast[i][m].state, plain[i][m].state) << i << " " << m;
+          EXPECT_EQ(fast[i][m].iterations, plain[i][m].iterations) << i << " " << m;
+          // Bit for bit: the same nearest distances, summed in the same order.
+          EXPECT_EQ(fast[i][m].fitness, plain[i][m].fitness)
+              << registrationMethodName(method) << " object " << i << " model " << m;
+          EXPECT_TRUE(fast[i][m].transform == plain[i][m].transform) << i << " " << m;
+          several_steps += fast[i][m].iterations > 2 ? 1 : 0;
+        }
+      }
+    }
+  }
+  EXPECT_GT(several_steps, 10);  // the comparison covers long alignments, not just one step
+}
+
+TEST_F(RegistrationTest, ObjectsTooSmallAreRecordedNotRegistered) {
+  ModelCloud two;
+  two.push_back(pcl::PointXYZ(1.0f, 0.9f, 0.5f));
+  two.push_back(pcl::PointXYZ(1.1f, 0.9f, 0.5f));
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    const RegistrationClassifier classifier(method, converging(), models_);
+    const auto results = classifier.registerObjects({two, ModelCloud()});
+    for (const auto& per_model : results) {
+      for (const PairResult& result : per_model) {
+        EXPECT_EQ(result.state, RegistrationState::kTooFewPoints);
+        EXPECT_TRUE(std::isinf(result.fitness));
+      }
+      EXPECT_FALSE(predict(per_model).criterion3);
+    }
+  }
+}
+
+TEST_F(RegistrationTest, SourceMinZDropsGroundReturns) {
+  RegistrationClassifierConfig config = converging();
+  config.source_min_z = 0.2;
+  ModelCloud view = objects_[0];
+  for (int i = 0; i < 200; ++i) {  // road returns far from any model point
+    view.push_back(pcl::PointXYZ(-3.0f + 0.03f * i, 3.0f, 0.02f));
+  }
+  const RegistrationClassifier with(RegistrationMethod::kIcp, config, models_);
+  const RegistrationClassifier without(RegistrationMethod::kIcp, converging(), models_);
+  const PairResult kept = without.registerObjects({view})[0][0];
+  const PairResult dropped = with.registerObjects({view})[0][0];
+  EXPECT_GT(kept.fitness, 1.0);     // the road points are metres from the model
+  EXPECT_LT(dropped.fitness, 1e-3);
+}
+
+}  // namespace
+}  // namespace granular

@@ -1,0 +1,69 @@
+// classifyFolder and its JSON records.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/runs/classify_registration_run.h"
+#include "support/registration_scene.h"
+
+namespace granular {
+namespace {
+using testing_clouds::shifted;
+using testing_support::ClassifyFolderTest;
+using testing_support::RegistrationTest;
+
+namespace fs = std::filesystem;
+
+TEST_F(ClassifyFolderTest, ClassifiesEveryObjectAndWritesItsRecord) {
+  const ClassificationRun run =
+      classifyFolder(root_ / "models", root_ / "objects", RegistrationMethod::kIcp, converging());
+  EXPECT_EQ(run.models, (std::vector<std::string>{"Long", "Tall"}));
+  ASSERT_EQ(run.objects.size(), objects_.size());
+  EXPECT_EQ(run.summary(2).correct, objects_.size());
+  EXPECT_EQ(run.summary(3).correct, objects_.size());
+  writeClassificationJson(root_ / "icp.json", run);
+  std::ifstream stream(root_ / "icp.json");
+  const nlohmann::json json = nlohmann::json::parse(stream);
+  EXPECT_EQ(json["method"], "icp");
+  EXPECT_EQ(json["objects"].size(), objects_.size());
+  const nlohmann::json& first = json["objects"][0];
+  EXPECT_EQ(first["true_label"], first["predictions"]["criterion2"]);
+  EXPECT_EQ(first["per_model"]["Long"]["transform"].size(), 16u);
+  EXPECT_TRUE(first["per_model"]["Tall"].contains("fitness"));
+  EXPECT_EQ(json["accuracy"]["criterion2"]["accuracy"], 1.0);
+  EXPECT_EQ(json["missing"]["criterion2"], 0);
+}
+
+TEST_F(ClassifyFolderTest, AMissingModelIsAWarningAndItsObjectsCountAsWrong) {
+  fs::remove(root_ / "models" / "Tall.pcd");
+  const ClassificationRun run =
+      classifyFolder(root_ / "models", root_ / "objects", RegistrationMethod::kIcp, converging());
+  ASSERT_EQ(run.warnings.size(), 1u);
+  EXPECT_NE(run.warnings[0].find("Tall (6)"), std::string::npos) << run.warnings[0];
+  EXPECT_EQ(run.summary(3).correct, objects_.size() / 2);
+}
+
+TEST_F(ClassifyFolderTest, BadFoldersAndFramesAreErrors) {
+  EXPECT_THROW(classifyFolder(root_ / "none", root_ / "objects", RegistrationMethod::kIcp, {}),
+               std::runtime_error);
+  fs::create_directories(root_ / "empty");
+  EXPECT_THROW(classifyFolder(root_ / "models", root_ / "empty", RegistrationMethod::kIcp, {}),
+               std::runtime_error);
+  // A model centred on its box (z = 0 at half height) is not in the objects' frame.
+  writeModelPcd(root_ / "models" / "Long.pcd",
+                shifted(models_[0].cloud, Eigen::Vector3f(0.0f, 0.0f, -0.7f)));
+  try {
+    classifyFolder(root_ / "models", root_ / "objects", RegistrationMethod::kIcp, {});
+    FAIL() << "a box-centred model was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("Long.pcd"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("box-centre frame"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace granular

@@ -1,0 +1,205 @@
+// extractFolder: objects folders from a frames folder.
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/dataset/output_folder.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/runs/extract_run.h"
+#include "support/temporary_folder.h"
+
+namespace granular {
+namespace {
+using testing_support::TemporaryFolderTest;
+
+namespace fs = std::filesystem;
+
+std::string detectionJson(int id, const std::string& label, const std::string& position,
+                          const std::string& size) {
+  return R"({"header": {"stamp": {"secs": 0, "nsecs": 0}, "frame_id": "", "seq": 0}, "id": )" +
+         std::to_string(id) + R"(, "label": ")" + label +
+         R"(", "score": 1.0, "bbox": {"position": {"position": )" + position +
+         R"(, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}, "size": )" + size +
+         R"(}, "velocity": {"linear": {"x": 0, "y": 0, "z": 0},)"
+         R"( "angular": {"x": 0, "y": 0, "z": 0}}})";
+}
+
+std::string frameJson(const std::string& detections) {
+  return R"({"header": {"stamp": {"secs": 1586102742, "nsecs": 765440}, "frame_id": "velodyne",)"
+         R"( "seq": 375}, "detections": [)" +
+         detections + "]}";
+}
+
+// One bag-to-files frame: a Sedan box holding 120 points and an SUV box holding 20.
+class ExtractFolderTest : public TemporaryFolderTest {
+ protected:
+  const std::string stamp_ = "1586102742000765440";
+
+  void SetUp() override {
+    TemporaryFolderTest::SetUp();
+    in_ = root_ / "in";
+    Cloud cloud;
+    for (int i = 0; i < 120; ++i) {
+      cloud.push_back(PointXYZIT(10.0f + 0.01f * i, 0.0f, -1.0f, 1, i));
+    }
+    for (int i = 0; i < 20; ++i) {
+      cloud.push_back(PointXYZIT(-5.0f, 3.0f + 0.01f * i, -1.0f, 2, i));
+    }
+    cloud.push_back(PointXYZIT(50.0f, 50.0f, 0.0f, 3, 0.0));
+    fs::create_directories(in_ / "pcd");
+    writePcdBinary(in_ / "pcd" / (stamp_ + ".pcd"), cloud);
+    write(in_ / "detections_3d" / (stamp_ + ".json"),
+          frameJson(detectionJson(136, "Sedan", R"({"x": 10.6, "y": 0.0, "z": -1.0})",
+                                  R"({"x": 4.0, "y": 2.0, "z": 1.5})") +
+                    "," +
+                    detectionJson(9, "SUV", R"({"x": -5.0, "y": 3.0, "z": -1.0})",
+                                  R"({"x": 4.0, "y": 2.0, "z": 1.5})")));
+    writePcdBinary(in_ / "pcd" / "1586102743000000000.pcd", cloud);
+    write(in_ / "detections_3d" / "1586102744000000000.json", frameJson(""));
+  }
+
+  fs::path in_;
+};
+
+TEST_F(ExtractFolderTest, SeveralThresholdsInOnePass) {
+  ExtractionConfig config;
+  config.n_thresh = {300, 10, 100, 50};
+  const fs::path out = root_ / "objects";
+  const ExtractFolderSummary summary = extractFolder(in_, out, config);
+
+  EXPECT_EQ(summary.frames_read, 1u);
+  ASSERT_EQ(summary.frames_skipped.size(), 2u);
+  EXPECT_EQ(summary.frames_skipped[0],
+            "1586102743000000000: no detections_3d/1586102743000000000.json");
+  EXPECT_EQ(summary.frames_skipped[1], "1586102744000000000: no pcd/1586102744000000000.pcd");
+  EXPECT_TRUE(summary.invalid_detections.empty());
+
+  const std::string sedan = "Sedan-" + stamp_ + "-1.pcd";
+  const std::string suv = "SUV-" + stamp_ + "-1.pcd";
+  const std::string header =
+      "file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad\n";
+  const std::string sedan_row = sedan + ",Sedan,136," + stamp_ +
+                                ",120,10.6471,4.0000,2.0000,1.5000,0.000000\n";
+  const std::string suv_row =
+      suv + ",SUV,9," + stamp_ + ",20,5.9161,4.0000,2.0000,1.5000,0.000000\n";
+
+  EXPECT_EQ(read(out / "N10" / "index.csv"), header + sedan_row + suv_row);
+  EXPECT_EQ(read(out / "N50" / "index.csv"), header + sedan_row);
+  EXPECT_EQ(read(out / "N100" / "index.csv"), header + sedan_row);
+  EXPECT_EQ(read(out / "N300" / "index.csv"), header);
+  EXPECT_TRUE(fs::exists(out / "N10" / suv));
+  EXPECT_FALSE(fs::exists(out / "N50" / suv));
+  EXPECT_FALSE(fs::exists(out / "N300" / sedan));
+  EXPECT_EQ(fs::hard_link_count(out / "N100" / sedan), 3u);
+  EXPECT_EQ(std::distance(fs::directory_iterator(out / "N300"), fs::directory_iterator()), 1);
+
+  const Cloud object = readPcd(out / "N50" / sedan);
+  ASSERT_EQ(object.size(), 120u);
+  EXPECT_NEAR(object[0].x, -0.6, 1e-4);
+  EXPECT_NEAR(object[0].z, 0.75, 1e-4);
+  EXPECT_EQ(summary.objects.at(10).at("SUV"), 1u);
+  EXPECT_EQ(summary.objects.at(100).at("Sedan"), 1u);
+  EXPECT_TRUE(summary.objects.at(300).empty());
+  EXPECT_EQ(summary.objects.size(), 4u);
+  // Nothing but the result is left beside it.
+  EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 2);
+}
+
+TEST_F(ExtractFolderTest, OneThresholdWritesIntoTheOutputFolder) {
+  ExtractionConfig config;
+  config.n_thresh = {50};
+  config.labels = {"Sedan", "SUV"};
+  const fs::path out = root_ / "objects";
+  extractFolder(in_, out, config);
+  EXPECT_TRUE(fs::exists(out / ("Sedan-" + stamp_ + "-1.pcd")));
+  EXPECT_FALSE(fs::exists(out / ("SUV-" + stamp_ + "-1.pcd")));
+  EXPECT_TRUE(fs::exists(out / "index.csv"));
+  EXPECT_FALSE(fs::exists(out / "N50"));
+}
+
+TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {
+  const fs::path out = root_ / "objects";
+  write(out / "keep.txt", "mine");
+  ExtractFolderOptions options;
+  options.output.overwrite = true;
+  try {
+    extractFolder(in_, out, ExtractionConfig(), options);
+    FAIL() << "a folder of the user's files was replaced";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(out.string() + ": output folder holds files that "
+                                             "no granular tool wrote"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(read(out / "keep.txt"), "mine");
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator()), 1);
+}
+
+TEST_F(ExtractFolderTest, ReplacesItsOwnResultsOnlyWithOverwrite) {
+  const fs::path out = root_ / "objects";
+  extractFolder(in_, out, ExtractionConfig());
+  EXPECT_TRUE(fs::exists(out / kManifestName));
+  EXPECT_NE(read(out / kManifestName).find(R"("tool": "extract_objects")"), std::string::npos);
+  try {
+    extractFolder(in_, out, ExtractionConfig());
+    FAIL() << "an earlier result was replaced without overwrite";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("holds results of extract_objects; pass "
+                                             "--overwrite to replace them"),
+              std::string::npos)
+        << error.what();
+  }
+
+  ExtractFolderOptions options;
+  options.output.overwrite = true;
+  std::size_t progress_calls = 0;
+  options.progress = [&](std::size_t done, std::size_t total) {
+    ++progress_calls;
+    EXPECT_EQ(done, 1u);
+    EXPECT_EQ(total, 1u);
+  };
+  extractFolder(in_, out, ExtractionConfig(), options);
+  EXPECT_EQ(progress_calls, 1u);
+  EXPECT_TRUE(fs::exists(out / "index.csv"));
+  // Beside the input only the output: no staging or set-aside folder.
+  std::set<std::string> entries;
+  for (const fs::directory_entry& entry : fs::directory_iterator(root_)) {
+    entries.insert(entry.path().filename().string());
+  }
+  EXPECT_EQ(entries, (std::set<std::string>{"in", "objects"}));
+}
+
+TEST_F(ExtractFolderTest, AFailureLeavesNoOutput) {
+  write(in_ / "pcd" / "1586102745000000000.pcd", "not a point cloud\n");
+  write(in_ / "detections_3d" / "1586102745000000000.json", frameJson(""));
+  const fs::path out = root_ / "objects";
+  try {
+    extractFolder(in_, out, ExtractionConfig());
+    FAIL() << "a broken PCD was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("1586102745000000000.pcd"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(std::distance(fs::directory_iterator(root_), fs::directory_iterator()), 1);
+}
+
+TEST_F(ExtractFolderTest, RejectsAFolderThatIsNotBagToFiles) {
+  EXPECT_THROW(extractFolder(root_ / "nowhere", root_ / "objects", ExtractionConfig()),
+               std::runtime_error);
+  ExtractionConfig config;
+  config.n_thresh = {0};
+  EXPECT_THROW(extractFolder(in_, root_ / "objects", config), std::invalid_argument);
+  fs::create_directories(root_ / "empty" / "pcd");
+  fs::create_directories(root_ / "empty" / "detections_3d");
+  EXPECT_THROW(extractFolder(root_ / "empty", root_ / "objects", ExtractionConfig()),
+               std::runtime_error);
+  EXPECT_FALSE(fs::exists(root_ / "objects"));
+}
+
+}  // namespace
+}  // namespace granular

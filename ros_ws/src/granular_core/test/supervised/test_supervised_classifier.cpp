@@ -1,0 +1,113 @@
+// kNN and the nu-SVMs: train, classify, save and load, refuse bad input.
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/supervised/supervised_classifier.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Two well separated synthetic classes: boxes 4.5 m long, 1.5 m high and boxes 2 m long, 2.5 m
+// high, seen from a random side, with a little noise.
+class TwoClassesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::mt19937 random(3);
+    std::normal_distribution<float> noise(0.0f, 0.02f);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (int i = 0; i < 60; ++i) {
+      const bool car = i % 2 == 0;
+      const float length = car ? 4.5f : 2.0f, height = car ? 1.5f : 2.5f;
+      Cloud cloud;
+      for (int p = 0; p < 300; ++p) {
+        // The left side and the front.
+        const bool side = unit(random) < 0.7f;
+        const float x = side ? (unit(random) - 0.5f) * length : length / 2;
+        const float y = side ? 0.9f : (unit(random) - 0.5f) * 1.8f;
+        cloud.push_back(PointXYZIT(x + noise(random), y + noise(random),
+                                   unit(random) * height, car ? 200 : 50, 0.0));
+      }
+      (i < 40 ? train_ : test_).push_back(cloud);
+      (i < 40 ? train_labels_ : test_labels_).push_back(car ? "Car" : "Van");
+    }
+  }
+
+  std::vector<Cloud> train_, test_;
+  std::vector<std::string> train_labels_, test_labels_;
+};
+
+TEST_F(TwoClassesTest, EveryMethodClassifiesHeldOutObjectsAndSurvivesSaveAndLoad) {
+  SupervisedConfig config;
+  config.svm.refinements = 1;
+  const fs::path folder = fs::temp_directory_path() /
+                          ("granular_supervised_" + std::to_string(std::random_device()()));
+  fs::create_directories(folder);
+  for (const SupervisedMethod method :
+       {SupervisedMethod::kKnn, SupervisedMethod::kSvm, SupervisedMethod::kSvmEsf}) {
+    std::vector<std::vector<float>> features;
+    for (const Cloud& cloud : train_) {
+      features.push_back(objectFeatures(cloud, featureKindOf(method), config.histograms));
+    }
+    TrainingSummary summary;
+    const SupervisedClassifier classifier =
+        SupervisedClassifier::train(method, config, features, train_labels_, &summary);
+    EXPECT_EQ(classifier.labels(), (std::vector<std::string>{"Car", "Van"}));
+    EXPECT_EQ(summary.objects, train_.size());
+    std::cerr << "DEBUG " << supervisedMethodName(method) << " nu " << summary.nu << " gamma " << summary.gamma << " cv " << summary.cross_validation << "\n";
+    const fs::path file = folder / (std::string(supervisedMethodName(method)) + ".yml");
+    classifier.save(file);
+    const SupervisedClassifier loaded = SupervisedClassifier::load(file);
+    EXPECT_EQ(loaded.method(), method);
+    for (std::size_t i = 0; i < test_.size(); ++i) {
+      const std::vector<float> f = classifier.features(test_[i]);
+      EXPECT_EQ(classifier.predict(f), test_labels_[i]) << supervisedMethodName(method) << i;
+      EXPECT_EQ(loaded.predict(loaded.features(test_[i])), classifier.predict(f))
+          << supervisedMethodName(method) << " after loading, object " << i;
+    }
+  }
+  fs::remove_all(folder);
+}
+
+TEST_F(TwoClassesTest, BadInputIsRefusedWithAClearMessage) {
+  SupervisedConfig config;
+  std::vector<std::vector<float>> features;
+  for (const Cloud& cloud : train_) {
+    features.push_back(meanStdFeatures(cloud));
+  }
+  EXPECT_THROW(SupervisedClassifier::train(SupervisedMethod::kKnn, config, features,
+                                           std::vector<std::string>(train_.size(), "Car")),
+               std::invalid_argument);
+  EXPECT_THROW(SupervisedClassifier::train(SupervisedMethod::kSvm, config, features,
+                                           train_labels_),
+               std::invalid_argument);  // 6 values where the SVM takes 60
+  config.histograms.bins = 0;
+  EXPECT_THROW(validate(config), std::invalid_argument);
+
+  PointHistogramConfig other;
+  other.bins = 9;
+  EXPECT_EQ(featureConfigDifference(SupervisedMethod::kSvm, PointHistogramConfig(), other),
+            "bins: 7 vs 9");
+  EXPECT_EQ(featureConfigDifference(SupervisedMethod::kKnn, PointHistogramConfig(), other), "");
+
+  const fs::path file = fs::temp_directory_path() /
+                        ("granular_not_a_model_" + std::to_string(std::random_device()()) + ".yml");
+  std::ofstream(file) << "%YAML:1.0\nformat: something_else\n";
+  try {
+    SupervisedClassifier::load(file);
+    ADD_FAILURE() << "loaded a file that is not a classifier";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(file.string()), std::string::npos);
+  }
+  fs::remove(file);
+}
+
+}  // namespace
+}  // namespace granular

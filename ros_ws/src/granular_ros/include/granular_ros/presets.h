@@ -1,0 +1,22 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <granular_core/registration/registration_config.h>
+
+namespace granular_ros {
+
+/// The registration preset that the tools and the online node run when none is named: the
+/// tuned one (the report's ICP never converges; see docs/classification.md).
+inline constexpr const char* kDefaultPreset = "tuned";
+
+/// The preset called `name` among the built-in ones with the presets of `file` (a YAML file
+/// like config/classification.yaml) laid over them, validated. Throws std::invalid_argument
+/// naming the known presets for an unknown name, or the preset and field for a value out of
+/// range, and std::runtime_error naming the file and key for a bad file.
+granular::RegistrationClassifierConfig resolvePreset(
+    const std::optional<std::filesystem::path>& file, const std::string& name);
+
+}  // namespace granular_ros

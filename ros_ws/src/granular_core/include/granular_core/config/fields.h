@@ -56,11 +56,34 @@ struct Spec {
   bool empty_text = false;
 };
 
-inline Spec any(const char* unit = "") { return Spec{unit}; }
-inline Spec positive(const char* unit = "") { return Spec{unit, 0.0, true}; }
-inline Spec nonNegative(const char* unit = "") { return Spec{unit, 0.0}; }
-inline Spec atLeast(double min, const char* unit = "") { return Spec{unit, min}; }
-inline Spec fraction() { return Spec{"", 0.0, false, 1.0, true}; }  ///< [0, 1)
+/// Values from `min` to `max` (each excluded when open), in `unit`.
+inline Spec interval(double min, double max, const char* unit = "", bool min_open = false,
+                     bool max_open = false) {
+  Spec spec;
+  spec.unit = unit;
+  spec.min = min;
+  spec.min_open = min_open;
+  spec.max = max;
+  spec.max_open = max_open;
+  return spec;
+}
+inline Spec any(const char* unit = "") {
+  Spec spec;
+  spec.unit = unit;
+  return spec;
+}
+inline Spec atLeast(double min, const char* unit = "") {
+  Spec spec = any(unit);
+  spec.min = min;
+  return spec;
+}
+inline Spec nonNegative(const char* unit = "") { return atLeast(0.0, unit); }
+inline Spec positive(const char* unit = "") {
+  Spec spec = atLeast(0.0, unit);
+  spec.min_open = true;
+  return spec;
+}
+inline Spec fraction() { return interval(0.0, 1.0, "", false, true); }  ///< [0, 1)
 inline Spec text(const char* expected) {
   Spec spec;
   spec.expected = expected;

@@ -159,7 +159,7 @@ struct IcpConfig {
     visit("euclidean_fitness_epsilon", self.euclidean_fitness_epsilon, config::nonNegative());
     visit("max_fitness", self.max_fitness, config::positive("m^2"));
     visit("max_translation", self.max_translation, config::positive("m"));
-    visit("max_rotation_deg", self.max_rotation_deg, config::Spec{"deg", 0.0, true, 180.0});
+    visit("max_rotation_deg", self.max_rotation_deg, config::interval(0, 180, "deg", true));
     visit("min_points", self.min_points, config::atLeast(3, "points"));
     // 0: the whole model as target.
     visit("target_leaf_size", self.target_leaf_size, config::nonNegative("m"));
@@ -197,9 +197,9 @@ struct MeshConfig {
     visit("mu", self.mu, config::positive());
     visit("max_nearest_neighbors", self.max_nearest_neighbors, config::atLeast(3));
     visit("max_surface_angle_deg", self.max_surface_angle_deg,
-          config::Spec{"deg", 0.0, true, 180.0});
-    visit("min_angle_deg", self.min_angle_deg, config::Spec{"deg", 0.0, true, 180.0, true});
-    visit("max_angle_deg", self.max_angle_deg, config::Spec{"deg", 0.0, true, 180.0, true});
+          config::interval(0, 180, "deg", true));
+    visit("min_angle_deg", self.min_angle_deg, config::interval(0, 180, "deg", true, true));
+    visit("max_angle_deg", self.max_angle_deg, config::interval(0, 180, "deg", true, true));
   }
 };
 

@@ -38,7 +38,7 @@ struct SegmentationConfig {
     visit("cell_size", self.cell_size, config::positive("m"));
     visit("extent", self.extent, config::positive("m"));
     visit("height_threshold", self.height_threshold, config::nonNegative("m"));
-    visit("link_cells", self.link_cells, config::Spec{"cells", 1.0, false, 100.0});
+    visit("link_cells", self.link_cells, config::interval(1, 100, "cells"));
     visit("min_cells", self.min_cells, config::atLeast(1, "cells"));
     visit("min_points", self.min_points, config::nonNegative("points"));
     config::Spec longest = config::positive("m");

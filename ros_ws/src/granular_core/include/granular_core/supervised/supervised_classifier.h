@@ -70,7 +70,7 @@ struct SvmConfig {
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
-    visit("nu", self.nu, config::nonEmpty(config::Spec{"", 0.0, true, 1.0}));
+    visit("nu", self.nu, config::nonEmpty(config::interval(0, 1, "", true)));
     visit("log2_gamma_min", self.log2_gamma_min);
     visit("log2_gamma_max", self.log2_gamma_max);
     visit("log2_gamma_step", self.log2_gamma_step, config::positive());

@@ -1,10 +1,12 @@
-// segment_cloud: boxes for clouds without detections (Himmelsbach et al., section II). Each
-// cloud on ~input becomes a Detection3DArray on ~output, one box labelled "unknown" per
-// connected component of the occupancy grid, for the online classifier to classify.
+// segment_cloud: boxes for clouds without detections (config/segmentation.yaml: the ground, then
+// the occupancy grid of Himmelsbach et al., section II). Each cloud on ~input becomes a
+// Detection3DArray on ~output, one box labelled "unknown" per segment, for the online
+// classifier to classify.
 #include <chrono>
+#include <memory>
 #include <string>
 
-#include <granular_core/segmentation/occupancy_segmentation.h>
+#include <granular_core/segmentation/object_segmentation.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -17,12 +19,12 @@ namespace {
 
 // The node's parameters: the segmentation's (config/segmentation.yaml) and its own.
 struct SegmentCloudParameters {
-  granular::SegmentationConfig segmentation;
+  granular::SegmentationStageConfig segmentation;
   double report_interval = 10.0;  ///< s between latency lines in the log
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
-    granular::SegmentationConfig::fields(self.segmentation, visit);
+    granular::SegmentationStageConfig::fields(self.segmentation, visit);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
 };
@@ -38,6 +40,7 @@ class SegmentCloud {
     const auto parameters =
         granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
     config_ = parameters.segmentation;
+    segmenter_ = std::make_unique<granular::FrameSegmenter>(config_);
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
@@ -46,10 +49,9 @@ class SegmentCloud {
         ROS_INFO_STREAM("segment_cloud: time per cloud " << latency_.recent());
       }
     });
-    ROS_INFO_STREAM("segment_cloud: " << config_.cell_size << " m cells over "
-                                      << config_.extent << " m, threshold "
-                                      << config_.height_threshold << " m, on "
-                                      << subscriber_.getTopic());
+    ROS_INFO_STREAM("segment_cloud: "
+                    << granular::config::enumName(config_.method) << " segmentation on "
+                    << subscriber_.getTopic());
   }
 
   ~SegmentCloud() { ROS_INFO_STREAM("segment_cloud: " << latency_.total()); }
@@ -66,7 +68,7 @@ class SegmentCloud {
     }
     lgsvl_msgs::Detection3DArray output;
     output.header = message->header;
-    const std::vector<granular::Segment> segments = granular::segmentCloud(cloud, config_);
+    const std::vector<granular::Segment> segments = segmenter_->segment(cloud).segments;
     for (std::size_t i = 0; i < segments.size(); ++i) {
       lgsvl_msgs::Detection3D detection =
           granular_ros::toMessage(segments[i].box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
@@ -78,7 +80,8 @@ class SegmentCloud {
                                                            start).count());
   }
 
-  granular::SegmentationConfig config_;
+  granular::SegmentationStageConfig config_;
+  std::unique_ptr<granular::FrameSegmenter> segmenter_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;

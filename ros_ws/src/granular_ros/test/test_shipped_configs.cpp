@@ -4,7 +4,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include <granular_core/segmentation/occupancy_segmentation.h>
+#include <granular_core/segmentation/object_segmentation.h>
 #include <granular_core/supervised/supervised_classifier.h>
 
 #include "granular_ros/config_file.h"
@@ -35,12 +35,12 @@ TEST(ShippedConfigTest, SupervisedYamlStatesTheDefaults) {
 }
 
 TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
-  granular::SegmentationConfig config;
-  config.cell_size = 1.0;
-  config.height_threshold = 1.0;
-  ASSERT_NO_THROW(
-      loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", config));
-  EXPECT_NO_THROW(granular::validate(config));
+  granular::SegmentationStageConfig stage;
+  stage.occupancy.cell_size = 1.0;
+  stage.occupancy.height_threshold = 1.0;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", stage));
+  EXPECT_NO_THROW(granular::validate(stage));
+  const granular::SegmentationConfig& config = stage.occupancy;
   const granular::SegmentationConfig defaults;
   EXPECT_EQ(config.cell_size, defaults.cell_size);
   EXPECT_EQ(config.extent, defaults.extent);
@@ -50,6 +50,15 @@ TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
   EXPECT_EQ(config.max_length, defaults.max_length);
   // The simulated LiDAR's 1 deg azimuth step needs gaps bridged (docs/online.md).
   EXPECT_EQ(config.link_cells, 3);
+}
+
+TEST(ShippedConfigTest, SegmentationYamlStatesTheObjectSegmentationDefaults) {
+  granular::SegmentationStageConfig stage;
+  stage.objects.gates.min_top = 9.0;
+  stage.objects.ground.plane.eps_angle_deg = 45.0;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", stage));
+  EXPECT_TRUE(stage.objects == granular::ObjectSegmentationConfig());
+  EXPECT_EQ(stage.method, granular::SegmentationMethod::kObjects);
 }
 
 using ShippedConfigKeysTest = TemporaryYamlTest;

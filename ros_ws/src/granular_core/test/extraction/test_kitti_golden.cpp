@@ -13,13 +13,16 @@
 #include <gtest/gtest.h>
 
 #include "granular_core/extraction/extract_objects.h"
+#include "support/kitti.h"
 
 namespace granular {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kFixture = GRANULAR_KITTI_FIXTURE_DIR;
+using testing_kitti::kFixture;
+using testing_kitti::labelToDetection;
+using testing_kitti::readVelodyne;
+using testing_kitti::veloToRect;
 
 // The oracle applies R0_rect * Tr_velo_to_cam, which is not exactly a rotation, to the points;
 // here its closest rigid motion is applied to the box instead. The two differ by millimetres at
@@ -27,81 +30,6 @@ const fs::path kFixture = GRANULAR_KITTI_FIXTURE_DIR;
 bool closeToOracle(std::size_t count, std::size_t oracle) {
   const double allowed = std::max(2.0, 0.02 * static_cast<double>(oracle));
   return std::abs(static_cast<double>(count) - static_cast<double>(oracle)) <= allowed;
-}
-
-std::vector<double> calibrationRow(const fs::path& file, const std::string& key) {
-  std::ifstream stream(file);
-  std::string line;
-  while (std::getline(stream, line)) {
-    if (line.rfind(key + ":", 0) == 0) {
-      std::istringstream values(line.substr(key.size() + 1));
-      std::vector<double> row;
-      for (double value; values >> value;) {
-        row.push_back(value);
-      }
-      return row;
-    }
-  }
-  ADD_FAILURE() << file << " has no " << key;
-  return {};
-}
-
-// LiDAR -> rectified camera, as one affine map.
-Eigen::Affine3d veloToRect(const fs::path& calibration) {
-  const std::vector<double> r0 = calibrationRow(calibration, "R0_rect");
-  const std::vector<double> tr = calibrationRow(calibration, "Tr_velo_to_cam");
-  EXPECT_EQ(r0.size(), 9u);
-  EXPECT_EQ(tr.size(), 12u);
-  Eigen::Affine3d rect = Eigen::Affine3d::Identity();
-  Eigen::Affine3d velo_to_cam = Eigen::Affine3d::Identity();
-  for (int row = 0; row < 3; ++row) {
-    for (int column = 0; column < 3; ++column) {
-      rect.linear()(row, column) = r0[row * 3 + column];
-      velo_to_cam.linear()(row, column) = tr[row * 4 + column];
-    }
-    velo_to_cam.translation()[row] = tr[row * 4 + 3];
-  }
-  return rect * velo_to_cam;
-}
-
-Cloud readVelodyne(const fs::path& file) {
-  std::ifstream stream(file, std::ios::binary);
-  Cloud cloud;
-  float values[4];  // x, y, z, reflectance
-  while (stream.read(reinterpret_cast<char*>(values), sizeof(values))) {
-    cloud.push_back(PointXYZIT(values[0], values[1], values[2], 0, 0.0));
-  }
-  return cloud;
-}
-
-// A KITTI label line as a LiDAR-frame detection. KITTI gives h w l, the bottom centre (x, y, z)
-// in the rectified camera frame (y down) and rotation_y about the camera y axis.
-Detection labelToDetection(const std::string& line, const Eigen::Affine3d& velo_to_rect) {
-  std::istringstream fields(line);
-  std::string label;
-  double ignored, h, w, l, x, y, z, rotation_y;
-  fields >> label;
-  for (int i = 0; i < 7; ++i) {
-    fields >> ignored;
-  }
-  fields >> h >> w >> l >> x >> y >> z >> rotation_y;
-  EXPECT_FALSE(fields.fail()) << line;
-
-  const Eigen::Matrix3d about_y =
-      Eigen::AngleAxisd(rotation_y, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  Eigen::Matrix3d box_axes_in_rect;
-  box_axes_in_rect.col(0) = about_y * Eigen::Vector3d::UnitX();  // length
-  box_axes_in_rect.col(2) = -Eigen::Vector3d::UnitY();            // up
-  box_axes_in_rect.col(1) = box_axes_in_rect.col(2).cross(box_axes_in_rect.col(0));
-
-  const Eigen::Affine3d rect_to_velo = velo_to_rect.inverse();
-  Detection detection;
-  detection.label = label;
-  detection.centre = rect_to_velo * Eigen::Vector3d(x, y - h / 2.0, z);
-  // Quaterniond(Matrix3d) of the almost-rotation keeps its rotational part; the box normalises.
-  detection.orientation = Eigen::Quaterniond(rect_to_velo.linear() * box_axes_in_rect);
-  detection.size = Eigen::Vector3d(l, w, h);
-  return detection;
 }
 
 struct OracleCount {

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "granular_core/segmentation/object_segmentation.h"
+
+namespace granular {
+
+/// Which true objects and segments an evaluation counts.
+struct SegmentationEvaluationOptions {
+  double max_distance = 1.0;   ///< m: a segment's box centre this near a true centre finds it
+  std::size_t min_points = 10; ///< points a true box must hold to count as visible
+  /// deg: only objects and segments within this of straight ahead (+x) count, e.g. the
+  /// camera's view of camera-labelled data (KITTI's); 180: all around.
+  double half_field_of_view_deg = 180.0;
+  double max_range = 1e9;      ///< m: only objects and segments nearer than this count
+  /// Called with (frames done, frames) after each frame; may be empty.
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// A segmentation method's figures over a frames folder.
+struct SegmentationEvaluation {
+  std::size_t frames = 0;
+  std::size_t points = 0;          ///< over all clouds
+  std::size_t visible = 0;         ///< true objects counted (min_points, view, range)
+  std::size_t found = 0;           ///< of those, with a segment centre within max_distance
+  std::size_t footprint = 0;       ///< of those, with a segment centre in their footprint
+  std::size_t segments = 0;        ///< segments counted (view, range)
+  std::size_t false_segments = 0;  ///< of those, matching no true object (of any size)
+  std::map<std::string, std::size_t> rejected;  ///< segments each gate removed
+  std::vector<double> milliseconds;  ///< per frame: ground, segmentation and boxes
+  SegmentationEvaluationOptions options;
+
+  /// The recall, footprint and false-segment figures and the time per frame, on `out`.
+  void report(std::ostream& out) const;
+};
+
+/// Segments every cloud of the bag-to-files folder `frames` (pcd/<stamp>.pcd) with `config`
+/// and compares the segments with detections_3d/<stamp>.json: greedy one-to-one matching of
+/// box centres in x-y, nearest first (matchSegments). Throws std::runtime_error naming the
+/// folder or file for a missing folder, a folder without clouds, or an unreadable file.
+SegmentationEvaluation evaluateSegmentation(const std::filesystem::path& frames,
+                                            const SegmentationStageConfig& config,
+                                            const SegmentationEvaluationOptions& options = {});
+
+}  // namespace granular

@@ -1,0 +1,180 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "granular_core/config/fields.h"
+#include "granular_core/ground/ground.h"
+#include "granular_core/point_types.h"
+#include "granular_core/segmentation/occupancy_segmentation.h"
+
+namespace granular {
+
+/// Size and shape gates: what a segment must look like to be reported as an object. Each has a
+/// physical reason (docs/segmentation.md gives the measurements); heights are above the
+/// local ground.
+struct SegmentGates {
+  std::size_t min_points = 10;   ///< fewer points cannot be classified (N_thresh 10)
+  double max_length = 14.0;      ///< m: no rigid road vehicle is longer
+  double max_width = 3.5;        ///< m: vehicles are at most about 3 m wide
+  double max_area = 40.0;        ///< m^2: a bus is about 31 m^2
+  /// m: longer than wall_length and thinner than wall_width is a wall, fence or hedge line.
+  double wall_length = 7.0;
+  double wall_width = 0.6;
+  double min_top = 0.5;          ///< m: lower segments are kerbs, verges, debris
+  /// m, and m per metre of range: a standing object reaches the ground; the allowance grows
+  /// with the gap between scan rings.
+  double max_bottom = 0.5;
+  double max_bottom_per_m = 0.01;
+  /// deg and m: points whose least-variance direction lies within terrain_angle_deg of
+  /// vertical with a spread below terrain_thickness are a raised surface (a ramp, a pavement
+  /// edge), not an object.
+  double terrain_angle_deg = 30.0;
+  double terrain_thickness = 0.08;
+  /// m: a footprint diagonal below pole_diagonal reaching above pole_top is a pole, trunk or
+  /// sign post (taller than a person).
+  double pole_diagonal = 0.7;
+  double pole_top = 2.5;
+  /// m: anything over the segment's cells higher than this (buildings, tree crowns) is no
+  /// vehicle.
+  double max_column_top = 4.5;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("min_points", self.min_points, nonNegative("points"));
+    visit("max_length", self.max_length, positive("m"));
+    visit("max_width", self.max_width, positive("m"));
+    visit("max_area", self.max_area, positive("m^2"));
+    visit("wall_length", self.wall_length, positive("m"));
+    visit("wall_width", self.wall_width, nonNegative("m"));
+    visit("min_top", self.min_top, nonNegative("m"));
+    visit("max_bottom", self.max_bottom, nonNegative("m"));
+    visit("max_bottom_per_m", self.max_bottom_per_m, nonNegative("m/m"));
+    visit("terrain_angle_deg", self.terrain_angle_deg, interval(0, 90, "deg"));
+    visit("terrain_thickness", self.terrain_thickness, nonNegative("m"));
+    visit("pole_diagonal", self.pole_diagonal, nonNegative("m"));
+    visit("pole_top", self.pole_top, positive("m"));
+    visit("max_column_top", self.max_column_top, positive("m"));
+  }
+};
+
+/// Segmentation of real scans without boxes: the ground stage first, then the paper's
+/// occupancy grid over the points standing above the ground, whose cells join over gaps that
+/// grow with range (a rotating LiDAR's returns lie farther apart far away), then the gates,
+/// and a box per segment: the footprint's minimum-area rectangle, from the ground to the top.
+struct ObjectSegmentationConfig {
+  GroundConfig ground;
+  /// m above the ground: the points between min_height (ground.ground_height when below it)
+  /// and max_height are the candidates; above, overhangs (crowns, awnings) that would join a
+  /// car to its tree.
+  double max_height = 3.0;
+  double min_range = 2.5;    ///< m: nearer points are the sensor's own vehicle
+  double max_range = 80.0;   ///< m: the grid covers this around the sensor
+  double cell_size = 0.15;   ///< m, the paper's cell
+  /// Occupied cells up to link_cells rows or columns apart join (1: touching cells) ...
+  int link_cells = 1;
+  /// ... or farther, up to link_azimuth_steps returns' spacing along a ring at the cell's
+  /// range: a cell at range r joins cells up to link_azimuth_steps * r * azimuth_step apart.
+  double link_azimuth_steps = 3.3;
+  /// deg: the sensor's angle between returns along a ring (HDL-64E 0.176; the simulator 1).
+  double azimuth_step_deg = 0.176;
+  SegmentGates gates;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("ground", self.ground);
+    visit("max_height", self.max_height, positive("m"));
+    visit("min_range", self.min_range, nonNegative("m"));
+    visit("max_range", self.max_range, positive("m"));
+    visit("cell_size", self.cell_size, positive("m"));
+    visit("link_cells", self.link_cells, interval(1, 100, "cells"));
+    visit("link_azimuth_steps", self.link_azimuth_steps, nonNegative("returns"));
+    visit("azimuth_step_deg", self.azimuth_step_deg, positive("deg"));
+    visit("gates", self.gates);
+  }
+};
+
+/// Throws std::invalid_argument naming the field for a value out of range.
+void validate(const ObjectSegmentationConfig& config);
+
+/// One frame's segmentation.
+struct ObjectSegmentation {
+  GroundEstimate ground;
+  /// The segments that passed the gates. Segment::indices are the segment's candidate points
+  /// (the points above the ground), ascending; the box's bottom is the ground under them.
+  std::vector<Segment> segments;
+  /// Segments each gate removed, by gate name (first failing gate only).
+  std::map<std::string, std::size_t> rejected;
+};
+
+/// Segments cloud after cloud as ObjectSegmentationConfig says, reusing its grids, so that a
+/// frame costs what its points cost and not what the grid's size does (the online node and the
+/// evaluation keep one).
+class ObjectSegmenter {
+ public:
+  /// Validates `config`.
+  explicit ObjectSegmenter(const ObjectSegmentationConfig& config = {});
+
+  /// The segments of `cloud` (sensor frame, z up), in the order of their first cell in a
+  /// row-major scan of the grid.
+  ObjectSegmentation segment(const Cloud& cloud);
+
+  const ObjectSegmentationConfig& config() const { return config_; }
+
+ private:
+  ObjectSegmentationConfig config_;
+  /// Per grid cell: its place among the frame's occupied cells, -1 between frames.
+  std::vector<std::int32_t> slot_;
+};
+
+/// One cloud through a fresh ObjectSegmenter.
+ObjectSegmentation segmentObjects(const Cloud& cloud, const ObjectSegmentationConfig& config = {});
+
+/// The box-free stage's choice of method.
+enum class SegmentationMethod {
+  kObjects,    ///< segmentObjects: ground first, range-aware grid, gates (real scans)
+  kOccupancy,  ///< segmentCloud: the paper's grid on the whole cloud, as published
+};
+
+template <>
+struct config::EnumNames<SegmentationMethod> {
+  static constexpr const char* what = "segmentation method";
+  static constexpr std::array<std::pair<SegmentationMethod, const char*>, 2> values{
+      {{SegmentationMethod::kObjects, "objects"}, {SegmentationMethod::kOccupancy, "occupancy"}}};
+};
+
+/// config/segmentation.yaml: the method and each method's settings.
+struct SegmentationStageConfig {
+  SegmentationMethod method = SegmentationMethod::kObjects;
+  ObjectSegmentationConfig objects;
+  SegmentationConfig occupancy;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("method", self.method);
+    visit("objects", self.objects);
+    visit("occupancy", self.occupancy);
+  }
+};
+
+void validate(const SegmentationStageConfig& config);
+
+/// The configured method, cloud after cloud.
+class FrameSegmenter {
+ public:
+  /// Validates `config`.
+  explicit FrameSegmenter(const SegmentationStageConfig& config);
+  /// The segments of `cloud`; for the occupancy method, no ground and nothing rejected.
+  ObjectSegmentation segment(const Cloud& cloud);
+
+ private:
+  SegmentationStageConfig config_;
+  ObjectSegmenter objects_;
+};
+
+}  // namespace granular

@@ -1,0 +1,51 @@
+#include "granular_core/ground/ground.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granular {
+
+double GroundPlane::tiltDeg() const {
+  return std::acos(std::clamp(normal.normalized().z(), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+Eigen::Isometry3d GroundPlane::levelling() const {
+  const Eigen::Quaterniond rotation =
+      Eigen::Quaterniond::FromTwoVectors(normal.normalized(), Eigen::Vector3d::UnitZ());
+  // After the rotation the plane is z = -offset (a point p on it had normal . p = -offset).
+  Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();
+  levelling.linear() = rotation.toRotationMatrix();
+  levelling.translation() = Eigen::Vector3d(0.0, 0.0, offset);
+  return levelling;
+}
+
+void validate(const GroundConfig& config) {
+  config::validateFields(config);
+  config::require(config.plane.seed_min_range < config.plane.seed_max_range,
+                  "plane.seed_min_range must be below plane.seed_max_range");
+}
+
+GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config) {
+  validate(config);
+  GroundEstimate estimate;
+  estimate.plane = estimateGroundPlane(cloud, config.plane, &estimate.seeds, &estimate.inliers);
+  if (config.model == GroundModel::kLines) {
+    estimate.heights = groundLineHeights(cloud, estimate.plane, config.lines);
+  } else {
+    estimate.heights.assign(cloud.size(), std::nanf(""));
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const PointXYZIT& point = cloud[i];
+      if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+        estimate.heights[i] = static_cast<float>(
+            estimate.plane.heightOf(Eigen::Vector3d(point.x, point.y, point.z)));
+      }
+    }
+  }
+  estimate.ground.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    estimate.ground[i] = estimate.heights[i] < config.ground_height;  // NaN: false
+  }
+  return estimate;
+}
+
+}  // namespace granular

@@ -1,0 +1,160 @@
+#include "granular_core/runs/segmentation_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "granular_core/dataset/detections.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/extraction/extract_objects.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Within the counted view and range.
+bool counted(const Eigen::Vector3d& centre, const SegmentationEvaluationOptions& options) {
+  const double range = centre.head<2>().norm();
+  const double azimuth = std::abs(std::atan2(centre.y(), centre.x())) * 180.0 / M_PI;
+  return range < options.max_range && azimuth <= options.half_field_of_view_deg;
+}
+
+double percentile95(std::vector<double> values) {
+  if (values.empty()) {
+    return 0.0;
+  }
+  const std::size_t rank = (values.size() * 95 + 99) / 100 - 1;  // nearest rank
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank),
+                   values.end());
+  return values[rank];
+}
+
+}  // namespace
+
+SegmentationEvaluation evaluateSegmentation(const fs::path& frames,
+                                            const SegmentationStageConfig& config,
+                                            const SegmentationEvaluationOptions& options) {
+  validate(config);
+  const fs::path pcd = frames / "pcd";
+  if (!fs::is_directory(pcd)) {
+    throw std::runtime_error(pcd.string() + ": no such folder (a bag-to-files folder has pcd/ "
+                                            "and detections_3d/)");
+  }
+  std::vector<fs::path> clouds;
+  for (const fs::directory_entry& entry : fs::directory_iterator(pcd)) {
+    if (entry.path().extension() == ".pcd" && entry.path().filename().string()[0] != '.') {
+      clouds.push_back(entry.path());
+    }
+  }
+  if (clouds.empty()) {
+    throw std::runtime_error(pcd.string() + ": no clouds");
+  }
+  std::sort(clouds.begin(), clouds.end());
+
+  SegmentationEvaluation evaluation;
+  evaluation.options = options;
+  FrameSegmenter segmenter(config);
+  for (const fs::path& file : clouds) {
+    const Cloud cloud = readPcd(file);
+    const fs::path json = frames / "detections_3d" / (file.stem().string() + ".json");
+    const std::vector<Detection> detections =
+        fs::exists(json) ? readDetectionsJson(json) : std::vector<Detection>();
+    const auto start = std::chrono::steady_clock::now();
+    ObjectSegmentation result = segmenter.segment(cloud);
+    const std::vector<Segment>& segments = result.segments;
+    for (const auto& [gate, count] : result.rejected) {
+      evaluation.rejected[gate] += count;
+    }
+    evaluation.milliseconds.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
+    evaluation.points += cloud.size();
+
+    std::vector<OrientedBox> boxes, truth, visible;
+    for (const Segment& segment : segments) {
+      if (counted(segment.box.centre(), options)) {
+        boxes.push_back(segment.box);
+      }
+    }
+    for (const Detection& detection : detections) {
+      const OrientedBox box(detection.centre, detection.orientation, detection.size);
+      if (!counted(box.centre(), options)) {
+        continue;
+      }
+      truth.push_back(box);
+      if (cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero()).size() < options.min_points) {
+        continue;
+      }
+      visible.push_back(box);
+      const Eigen::Isometry3d to_object = box.sensorToObject();
+      evaluation.footprint += std::any_of(boxes.begin(), boxes.end(), [&](const OrientedBox& b) {
+        const Eigen::Vector3d centre = to_object * b.centre();
+        return std::abs(centre.x()) <= box.size().x() / 2 &&
+               std::abs(centre.y()) <= box.size().y() / 2;
+      });
+    }
+    const SegmentationMatch found = matchSegments(boxes, visible, options.max_distance);
+    evaluation.visible += found.truth;
+    evaluation.found += found.matched_truth;
+    // A segment on a true object too small to count is not a false one.
+    const SegmentationMatch any = matchSegments(boxes, truth, options.max_distance);
+    evaluation.segments += any.segments;
+    evaluation.false_segments += any.unmatched_segments;
+    ++evaluation.frames;
+    if (options.progress) {
+      options.progress(evaluation.frames, clouds.size());
+    }
+  }
+  return evaluation;
+}
+
+void SegmentationEvaluation::report(std::ostream& out) const {
+  const auto share = [](std::size_t a, std::size_t b) {
+    return b > 0 ? static_cast<double>(a) / static_cast<double>(b) : 0.0;
+  };
+  double sum = 0.0;
+  for (const double value : milliseconds) {
+    sum += value;
+  }
+  char line[256];
+  std::snprintf(line, sizeof(line), "clouds: %zu (%.0f points each on average)\n", frames,
+                share(points, frames));
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "counted: objects with at least %zu points and segments within %.0f deg of "
+                "straight ahead",
+                options.min_points, options.half_field_of_view_deg);
+  out << line;
+  if (options.max_range < 1e9) {
+    out << ", nearer than " << options.max_range << " m";
+  }
+  out << '\n';
+  std::snprintf(line, sizeof(line),
+                "recall: objects with a segment centre within %.2f m: %zu of %zu (%.3f)\n",
+                options.max_distance, found, visible, share(found, visible));
+  out << line;
+  std::snprintf(line, sizeof(line),
+                "footprint: objects with a segment centre in their footprint: %zu (%.3f)\n",
+                footprint, share(footprint, visible));
+  out << line;
+  std::snprintf(line, sizeof(line), "segments: %zu, matching no object: %zu (%.3f)\n",
+                segments, false_segments, share(false_segments, segments));
+  out << line;
+  if (!rejected.empty()) {
+    out << "removed by the gates:";
+    for (const auto& [gate, count] : rejected) {
+      out << ' ' << gate << ' ' << count;
+    }
+    out << '\n';
+  }
+  std::snprintf(line, sizeof(line), "time per cloud (ground, segments, boxes): mean %.2f ms, "
+                                    "p95 %.2f ms\n",
+                milliseconds.empty() ? 0.0 : sum / static_cast<double>(milliseconds.size()),
+                percentile95(milliseconds));
+  out << line;
+}
+
+}  // namespace granular

@@ -22,7 +22,7 @@ TEST(ModelConfigYamlTest, ShippedConfigStatesTheDefaults) {
   config.filters.order = {FilterStage::kVoxelGrid};
   config.icp.max_fitness = 1.0;
   config.mesh.mu = 9.0;
-  config.class_filters["SchoolBus"]["pass_through"]["max_z"] = 9.0;
+  config.class_filters["SchoolBus"]["voxel_grid"]["leaf_size"] = 9.0;
   ASSERT_NO_THROW(loadConfigFile(file, config));
   EXPECT_NO_THROW(granular::validate(config));
   const granular::ModelBuildConfig defaults;

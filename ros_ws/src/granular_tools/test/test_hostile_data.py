@@ -347,3 +347,82 @@ def test_a_models_folder_given_as_a_classifier_says_what_was_expected(drive, tmp
     assert result.status in (1, 2)
     assert_fails_clearly(result, result.status, drive / "models")
     assert_no_crash(result)
+
+
+def test_labels_that_match_no_detection_are_an_error_not_an_empty_result(drive, tmp_path):
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o", "--labels",
+                            "Sedna,Jepp"])
+    assert_fails_clearly(result, 1, "Sedna", "Jepp", "labels seen")
+    assert not (tmp_path / "o").exists() and leftovers(tmp_path) == []
+
+
+def test_a_label_that_matches_nothing_beside_one_that_does_is_warned(drive, tmp_path):
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o", "--labels",
+                            "Sedan,Sedna"])
+    assert result.status == 0, str(result)
+    assert "'Sedna' (labels) matches no detection" in result.output
+
+
+def test_a_misspelt_class_under_class_filters_is_warned(drive, tmp_path):
+    config = tmp_path / "models.yaml"
+    config.write_text("class_filters:\n  Sedna: {voxel_grid: {leaf_size: 0.05}}\n")
+    result = run(BUILD_MODELS + ["--objects", drive / "objects", "--out", tmp_path / "m",
+                                 "--config", config])
+    assert result.status == 0, str(result)
+    assert "class_filters.Sedna: no objects of class 'Sedna'" in result.output
+
+
+def test_a_voxel_leaf_too_small_for_pcl_is_refused_not_skipped(drive, tmp_path):
+    config = tmp_path / "models.yaml"
+    config.write_text("class_filters:\n  Sedan: {voxel_grid: {leaf_size: 1.0e-6}}\n")
+    result = run(BUILD_MODELS + ["--objects", drive / "objects", "--out", tmp_path / "m",
+                                 "--config", config, "--classes", "Sedan"])
+    assert_fails_clearly(result, 1, "voxel_grid.leaf_size", "class 'Sedan'", "use at least")
+    assert not (tmp_path / "m").exists() and leftovers(tmp_path) == []
+
+
+def sparse_objects_folder(folder):
+    """An objects folder with a class whose points lie a metre apart: the radius filter keeps
+    none of them (a sparse real Bus)."""
+    from granular_tools.simulation.lidar import Returns
+
+    folder.mkdir()
+    points = np.array([[x, 0.0, 1.0] for x in range(-5, 6)], float)
+    returns = Returns(points, np.zeros(len(points), np.uint8))
+    message = recorder.cloud_message(returns, bagmaker.stamp(0.0), "object", 0)
+    header = ("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity timestamp\nSIZE 4 4 4 1 8\n"
+              "TYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\n"
+              "POINTS {n}\nDATA binary\n").format(n=len(points))
+    record = np.frombuffer(message.data, dtype=recorder.POINT_DTYPE)
+    packed = np.zeros(len(record), dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"),
+                                          ("intensity", "u1"), ("timestamp", "<f8")])
+    for name in packed.dtype.names:
+        packed[name] = record[name]
+    for index in range(1, 4):
+        (folder / f"Bus-100-{index}.pcd").write_bytes(header.encode() + packed.tobytes())
+    return folder
+
+
+def test_a_model_that_the_filters_empty_names_the_class_the_filter_and_what_to_change(
+        tmp_path):
+    objects = sparse_objects_folder(tmp_path / "objects")
+    result = run(BUILD_MODELS + ["--objects", objects, "--out", tmp_path / "m"])
+    assert_fails_clearly(result, 1, "class 'Bus'", "radius_outlier",
+                         "class_filters.Bus.radius_outlier")
+    assert not (tmp_path / "m").exists() and leftovers(tmp_path) == []
+
+
+def test_tall_classes_keep_their_roofs(drive, tmp_path):
+    result = run(BUILD_MODELS + ["--objects", drive / "objects", "--out", tmp_path / "m"])
+    assert result.status == 0, str(result)
+    document = json.loads((tmp_path / "m" / "models.json").read_text())
+    heights = {}
+    import csv
+    with open(drive / "objects" / "index.csv", encoding="utf-8") as stream:
+        for row in csv.DictReader(stream):
+            heights.setdefault(row["label"], []).append(float(row["height_m"]))
+    for label, entry in document["classes"].items():
+        band_top = entry["filters"]["pass_through"]["max_z"]
+        assert band_top >= np.percentile(heights[label], 95), label
+    tall = [label for label in document["classes"] if max(heights[label]) > 2.5]
+    assert tall, "the drive holds a bus or a truck"

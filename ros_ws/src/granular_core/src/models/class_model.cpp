@@ -1,5 +1,6 @@
 #include "granular_core/models/class_model.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "granular_core/models/concatenate.h"
@@ -10,7 +11,8 @@ namespace granular {
 
 ClassModel buildClassModel(const std::string& label, const std::vector<ModelCloud>& objects,
                            const ModelBuildConfig& config, const ModelCloud* seed,
-                           const std::function<void(std::size_t, std::size_t)>& progress) {
+                           const std::function<void(std::size_t, std::size_t)>& progress,
+                           const std::vector<double>& box_heights) {
   const auto start = std::chrono::steady_clock::now();
   ClassModel result;
   ClassModelSummary& summary = result.summary;
@@ -72,10 +74,31 @@ ClassModel buildClassModel(const std::string& label, const std::vector<ModelClou
   }
 
   summary.raw_points = result.raw.size();
+  if (!summary.filters.pass_through.max_z) {
+    std::vector<double> heights = box_heights;
+    if (heights.empty()) {
+      for (const ModelCloud& object : objects) {
+        double top = 0.0;
+        for (const pcl::PointXYZ& point : object.points) {
+          top = std::max(top, static_cast<double>(point.z));
+        }
+        heights.push_back(top);
+      }
+    }
+    summary.filters.pass_through.max_z = autoMaxZ(heights);
+  }
   result.model = applyFilterChain(result.raw, summary.filters, &summary.stages);
   summary.points = result.model.size();
   if (result.model.empty()) {
-    summary.warnings.push_back("the filter chain left no points");
+    for (const StageResult& stage : summary.stages) {
+      if (stage.points == 0 && !summary.emptied_by) {
+        summary.emptied_by = stage.stage;
+      }
+    }
+    summary.warnings.push_back(
+        summary.emptied_by
+            ? std::string("the ") + stageName(*summary.emptied_by) + " stage left no points"
+            : std::string("the filter chain left no points"));
   }
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -17,8 +17,8 @@ void validateChain(const FilterChainConfig& chain, const std::string& prefix,
         prefix + "order: stage " + stageName(chain.order[i]) + " is listed twice");
   }
   const PassThroughConfig& band = chain.pass_through;
-  config::require(std::isfinite(band.min_z) && std::isfinite(band.max_z) &&
-                      band.min_z < band.max_z,
+  config::require(std::isfinite(band.min_z) &&
+                      (!band.max_z || (std::isfinite(*band.max_z) && band.min_z < *band.max_z)),
                   prefix + "pass_through: min_z must be below max_z, both finite");
   config::validateFields(chain, path);
 }
@@ -38,14 +38,23 @@ FilterChainOverrides defaultClassFilters() {
     return config::Json{{"voxel_grid", {{"leaf_size", leaf_size}}}};
   };
   overrides["BoxTruck"] = leaf(0.075);
-  overrides["BoxTruck"]["pass_through"] = {{"max_z", 3.6}};
   overrides["Hatchback"] = leaf(0.045);
   overrides["Jeep"] = leaf(0.07);
   overrides["SUV"] = leaf(0.065);
   overrides["SchoolBus"] = leaf(0.095);
-  overrides["SchoolBus"]["pass_through"] = {{"max_z", 3.4}};
   overrides["Sedan"] = leaf(0.055);
   return overrides;
+}
+
+std::optional<double> autoMaxZ(std::vector<double> heights) {
+  if (heights.empty()) {
+    return std::nullopt;
+  }
+  // Nearest rank.
+  const std::size_t rank = (heights.size() * 95 + 99) / 100 - 1;
+  std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(rank),
+                   heights.end());
+  return kAutoMaxZFactor * heights[rank];
 }
 
 FilterChainConfig ModelBuildConfig::filtersFor(const std::string& label) const {

@@ -11,6 +11,7 @@
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/objects_index.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/models/concatenate.h"
 #include "granular_core/models/icp_concatenate.h"
@@ -86,6 +87,30 @@ Json classJson(const ClassModelSummary& summary, const std::vector<fs::path>& fi
   }
   entry["warnings"] = summary.warnings;
   return entry;
+}
+
+// Which filter emptied a class's model, and what to change.
+std::string emptiedMessage(const ClassModelSummary& model) {
+  const std::string key = "class_filters." + model.label + ".";
+  std::string advice;
+  switch (*model.emptied_by) {
+    case FilterStage::kPassThrough:
+      advice = "widen " + key + "pass_through (min_z, max_z)";
+      break;
+    case FilterStage::kRadiusOutlier:
+      advice = "raise " + key + "radius_outlier.radius or lower its min_neighbors";
+      break;
+    case FilterStage::kStatisticalOutlier:
+      advice = "raise " + key + "statistical_outlier.stddev_mul";
+      break;
+    case FilterStage::kVoxelGrid:
+      advice = "check " + key + "voxel_grid";
+      break;
+  }
+  return "class '" + model.label + "' (" + std::to_string(model.raw_points) +
+         " points before filtering): the " + stageName(*model.emptied_by) +
+         " stage removed them all; " + advice + ", leave the stage out of " + key +
+         "order, or leave the class out (--classes)";
 }
 
 }  // namespace
@@ -178,6 +203,25 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
   if (!options.seeds.empty() && config.method != ConcatenationMethod::kIcp) {
     summary.warnings.push_back("seed PCDs are used by the icp method only; ignored");
   }
+  // A class_filters entry for a class that is not here is a typo more often than not (the
+  // built-in entries are for the simulator's classes, absent from other data).
+  const FilterChainOverrides built_in = defaultClassFilters();
+  std::vector<std::string> present;
+  for (const auto& [label, paths] : files) {
+    present.push_back(label);
+  }
+  for (const auto& [label, change] : config.class_filters.by_name) {
+    if (files.count(label) == 0 && built_in.by_name.count(label) == 0) {
+      summary.warnings.push_back("class_filters." + label + ": no objects of class '" + label +
+                                 "' here, so these filter changes are unused (classes: " +
+                                 joined(present) + ")");
+    }
+  }
+  // The box heights of each class, for an automatic pass-through band.
+  std::map<std::string, std::vector<double>> box_heights;
+  for (const ObjectIndexRow& row : readObjectIndex(objects)) {
+    box_heights[row.label].push_back(row.height);
+  }
 
   const fs::path target = absolutePath(out);
   if (isWithin(absolutePath(objects), target)) {
@@ -206,6 +250,7 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
   }
 
   Json classes = Json::object();
+  std::vector<std::string> emptied;
   for (const std::string& label : labels) {
     const auto found = files.find(label);
     const std::vector<fs::path> paths =
@@ -226,9 +271,18 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
         options.progress(label, done, total);
       };
     }
-    ClassModel model = buildClassModel(label, clouds, config,
-                                       seed == seeds.end() ? nullptr : &seed->second, progress);
+    ClassModel model;
+    try {
+      model = buildClassModel(label, clouds, config,
+                              seed == seeds.end() ? nullptr : &seed->second, progress,
+                              box_heights[label]);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error("class '" + label + "': " + error.what());
+    }
     ClassModelSummary& result = model.summary;
+    if (result.emptied_by) {
+      emptied.push_back(emptiedMessage(result));
+    }
     if (non_finite > 0) {
       result.warnings.push_back(std::to_string(non_finite) + " non-finite points dropped");
     }
@@ -253,6 +307,9 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
     summary.classes.push_back(std::move(result));
   }
 
+  if (!emptied.empty()) {
+    throw std::runtime_error("the filters left no points of " + joined(emptied, "; of "));
+  }
   Json document = runJson(absolutePath(objects), config, options.mesh);
   document["classes"] = classes;
   document["warnings"] = summary.warnings;

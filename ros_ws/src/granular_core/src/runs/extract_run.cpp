@@ -14,6 +14,7 @@
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/objects_index.h"
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/text.h"
@@ -22,9 +23,6 @@ namespace granular {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr const char* kIndexHeader =
-    "file,label,detection_id,stamp,points,range_m,length_m,width_m,height_m,yaw_rad\n";
 
 // Stems of the files in `folder` with the given extension; sorted, so equal-length numeric
 // stamps come out in time order.
@@ -69,26 +67,20 @@ struct ObjectsFolder {
   std::ostringstream index;  ///< index.csv, written once complete
 };
 
-std::string csvField(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) {
-    return text;
-  }
-  std::string quoted = "\"";
-  for (const char c : text) {
-    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  }
-  return quoted + '"';
-}
-
 std::string indexRow(const std::string& file, const ExtractedObject& object,
                      const std::string& stamp) {
-  const Eigen::Vector3d& size = object.box.size();
-  std::ostringstream row;
-  row << csvField(file) << ',' << csvField(object.detection.label) << ','
-      << object.detection.id << ',' << csvField(stamp) << ',' << object.cloud.size() << ','
-      << std::fixed << std::setprecision(4) << object.box.range() << ',' << size.x() << ','
-      << size.y() << ',' << size.z() << ',' << std::setprecision(6) << object.box.yaw() << '\n';
-  return row.str();
+  ObjectIndexRow row;
+  row.file = file;
+  row.label = object.detection.label;
+  row.detection_id = std::to_string(object.detection.id);
+  row.stamp = stamp;
+  row.points = object.cloud.size();
+  row.range = object.box.range();
+  row.length = object.box.size().x();
+  row.width = object.box.size().y();
+  row.height = object.box.size().z();
+  row.yaw = object.box.yaw();
+  return objectIndexLine(row);
 }
 
 void linkOrCopy(const fs::path& from, const fs::path& to) {
@@ -198,7 +190,7 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
     summary.objects.try_emplace(threshold);
     std::ostringstream index;
-    index << kIndexHeader;
+    index << objectIndexHeader();
     folders.push_back({threshold, std::move(path), std::move(index)});
   }
 
@@ -253,12 +245,23 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
   }
 
+  // A requested label that no detection carries is a typo more often than not: a warning,
+  // and an error when none of them matched (an empty result would look like a run).
+  const std::string seen =
+      seen_labels.empty()
+          ? std::string()
+          : "; labels seen: " +
+                joined(std::vector<std::string>(seen_labels.begin(), seen_labels.end()));
+  std::vector<std::string> unmatched;
   for (const std::string& label : config.labels) {
     if (seen_labels.count(label) == 0) {
-      summary.warnings.push_back("label '" + label + "' (labels) matches no detection" +
-                                 (seen_labels.empty() ? std::string()
-                                                      : "; labels seen: " + joined(std::vector<std::string>(seen_labels.begin(), seen_labels.end()))));
+      unmatched.push_back(label);
+      summary.warnings.push_back("label '" + label + "' (labels) matches no detection" + seen);
     }
+  }
+  if (!config.labels.empty() && unmatched.size() == config.labels.size()) {
+    throw std::runtime_error(in.string() + ": no detection carries any of the labels asked for (" +
+                             joined(config.labels) + ")" + seen);
   }
   for (ObjectsFolder& folder : folders) {
     writeFile(folder.path / "index.csv", folder.index.str(), "index");

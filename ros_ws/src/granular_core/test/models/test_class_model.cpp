@@ -1,4 +1,5 @@
 // buildClassModel: plain and ICP class models.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -54,7 +55,7 @@ TEST(ClassModelTest, PlainModelIsTheFilteredConcatenation) {
   EXPECT_EQ(model.summary.raw_points, 5000u);
   EXPECT_EQ(pointsOf(model.raw), pointsOf(concatenate({a, b})));
   EXPECT_EQ(pointsOf(model.model),
-            pointsOf(applyFilterChain(model.raw, config.filtersFor("Sedan"))));
+            pointsOf(applyFilterChain(model.raw, model.summary.filters)));
   ASSERT_EQ(model.summary.stages.size(), 4u);
   EXPECT_EQ(model.summary.stages.back().points, model.model.size());
 }
@@ -112,6 +113,37 @@ TEST(ClassModelTest, IcpAlignsShiftedViewsOntoTheSeed) {
                                      std::abs(std::abs(p.y) - half.y()), std::abs(p.z - 1.5f)});
     ASSERT_LT(off_face, 0.01f) << p;
   }
+}
+
+TEST(ClassModelTest, TheBandsTopFollowsTheClassesBoxesSoTallClassesKeepTheirRoofs) {
+  std::mt19937 random(4);
+  const Eigen::Vector3d bus(11.0, 2.5, 3.2);
+  const ModelCloud a = boxSurface(bus, 4000, random);
+  const ModelCloud b = boxSurface(bus, 4000, random);
+  const ClassModel model = buildClassModel("Bus", {a, b}, ModelBuildConfig(), nullptr, {},
+                                           std::vector<double>{3.2, 3.1, 3.25});
+  ASSERT_TRUE(model.summary.filters.pass_through.max_z);
+  EXPECT_NEAR(*model.summary.filters.pass_through.max_z, 1.05 * 3.25, 1e-12);
+  double top = 0.0;
+  for (const pcl::PointXYZ& point : model.model.points) {
+    top = std::max(top, double(point.z));
+  }
+  EXPECT_GT(top, 3.1) << "the roof is kept";
+  // Without box heights the objects' own highest points set it.
+  const ClassModel from_points = buildClassModel("Bus", {a, b}, ModelBuildConfig());
+  EXPECT_NEAR(*from_points.summary.filters.pass_through.max_z, 1.05 * 3.2, 0.01);
+}
+
+TEST(ClassModelTest, AFilterThatEmptiesTheModelIsNamed) {
+  std::mt19937 random(5);
+  ModelCloud sparse;  // points a metre apart: the radius filter keeps none
+  for (int i = 0; i < 20; ++i) {
+    sparse.push_back(pcl::PointXYZ(static_cast<float>(i), 0.0f, 1.0f));
+  }
+  const ClassModel model = buildClassModel("Bus", {sparse}, ModelBuildConfig());
+  EXPECT_TRUE(model.model.empty());
+  ASSERT_TRUE(model.summary.emptied_by);
+  EXPECT_EQ(*model.summary.emptied_by, FilterStage::kRadiusOutlier);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // The filter chain: each stage exactly, and the chain in order.
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -49,7 +51,9 @@ TEST(FilterTest, PassThroughRemovesExactlyThePointsOutsideTheBand) {
   cloud.push_back(pcl::PointXYZ(0, 0, 2.0f));
   expected.push_back(pcl::PointXYZ(0, 0, 0.2f));
   expected.push_back(pcl::PointXYZ(0, 0, 2.0f));
-  const ModelCloud kept = passThroughZ(cloud, PassThroughConfig());
+  PassThroughConfig band;
+  band.max_z = 2.0;  // the report's band, 0.2 to 2.0 m
+  const ModelCloud kept = passThroughZ(cloud, band);
   EXPECT_EQ(kept.size(), 402u);
   EXPECT_EQ(pointsOf(kept), pointsOf(expected));
 }
@@ -138,6 +142,7 @@ TEST(FilterTest, VoxelGridGivesOnePointPerOccupiedVoxel) {
 TEST(FilterTest, ChainRunsTheStagesInOrderAndReportsEachCount) {
   ModelCloud cloud = lattice({0.01, 0.01, 0.01}, 0.02, 50, 25, 15);  // z 0.01 .. 0.29
   FilterChainConfig chain;
+  chain.pass_through.max_z = 2.0;
   chain.order = {FilterStage::kVoxelGrid, FilterStage::kPassThrough};
   std::vector<StageResult> stages;
   const ModelCloud result = applyFilterChain(cloud, chain, &stages);
@@ -158,6 +163,20 @@ TEST(FilterTest, ChainRunsTheStagesInOrderAndReportsEachCount) {
   for (const StageResult& stage : stages) {
     EXPECT_EQ(stage.points, 0u);
   }
+}
+
+TEST(FilterTest, AVoxelTooSmallForTheCloudIsRefusedNotSkipped) {
+  ModelCloud cloud;
+  cloud.push_back(pcl::PointXYZ(0.0f, 0.0f, 0.0f));
+  cloud.push_back(pcl::PointXYZ(4.0f, 2.0f, 1.5f));
+  try {
+    voxelGrid(cloud, VoxelGridConfig{1e-6});
+    ADD_FAILURE() << "a 1 um voxel grid over metres was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("voxel_grid.leaf_size"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(voxelGrid(cloud, VoxelGridConfig{0.1}).size(), 2u);
 }
 
 }  // namespace

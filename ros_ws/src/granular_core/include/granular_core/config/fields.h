@@ -54,6 +54,9 @@ struct Spec {
   bool non_empty = false;
   /// A text may be empty (it means "none"); otherwise an empty text is an error.
   bool empty_text = false;
+  /// An optional number left unset means "worked out from the data": written and read as
+  /// "auto" (null is read as auto too).
+  bool automatic = false;
 };
 
 /// Values from `min` to `max` (each excluded when open), in `unit`.
@@ -89,6 +92,13 @@ inline Spec text(const char* expected) {
   spec.expected = expected;
   return spec;
 }
+/// A number, or "auto" (an unset std::optional<double>) for one worked out from the data.
+inline Spec automatic(const char* unit = "") {
+  Spec spec = any(unit);
+  spec.automatic = true;
+  return spec;
+}
+
 /// A text where "" means none.
 inline Spec optionalText(const char* expected) {
   Spec spec = text(expected);
@@ -268,7 +278,13 @@ Json write(const T& value);
 struct Writer {
   Json& out;
   template <typename T>
-  void operator()(const char* name, const T& value, const Spec& = {}) {
+  void operator()(const char* name, const T& value, const Spec& spec = {}) {
+    if constexpr (std::is_same_v<T, std::optional<double>>) {
+      if (!value && spec.automatic) {
+        out[name] = "auto";
+        return;
+      }
+    }
     out[name] = write(value);
   }
 };
@@ -474,7 +490,7 @@ void read(const Json& node, T& value, const std::string& key, const Spec& spec) 
     }
     value = std::move(items);
   } else if constexpr (std::is_same_v<T, std::optional<double>>) {
-    if (node.is_null()) {
+    if (node.is_null() || (spec.automatic && node.is_string() && node == "auto")) {
       value.reset();
     } else {
       value = readScalar<double>(node, key, spec);
@@ -571,7 +587,10 @@ struct Describer {
       Describer nested{key, lines};
       T::fields(value, nested);
     } else {
-      std::string line = key + ": " + write(value).dump();
+      Json shown_value;
+      Writer writer{shown_value};
+      writer("value", value, spec);
+      std::string line = key + ": " + shown_value["value"].dump();
       if (*spec.unit != '\0') {
         line += std::string(" ") + spec.unit;
       }

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,9 +28,12 @@ struct ClassModelSummary {
   std::map<std::string, std::size_t> verdicts;     ///< ICP: objects per verdictName
   std::map<std::string, std::size_t> convergence;  ///< ICP: aligned objects per convergenceName
   std::size_t raw_points = 0;
-  FilterChainConfig filters;        ///< the chain used (shared chain with class overrides)
+  /// The chain used (shared chain with class overrides, an automatic max_z worked out).
+  FilterChainConfig filters;
   std::vector<StageResult> stages;  ///< points after each stage
   std::size_t points = 0;           ///< points of the filtered model
+  /// The filter stage that left no points, when the model is empty though objects were there.
+  std::optional<FilterStage> emptied_by;
   std::size_t mesh_polygons = 0;    ///< with a mesh
   double seconds = 0.0;             ///< wall time of concatenation and filtering
   std::vector<std::string> warnings;
@@ -48,8 +52,12 @@ struct ClassModel {
 /// give an empty model, no stages and a warning; for ICP a single object is its own model (with
 /// a warning). `progress`, when set, is called
 /// with (objects aligned, objects to align) during ICP.
+/// `box_heights` (m, the class's detection boxes' heights, from the objects folder's index)
+/// set an automatic pass_through.max_z (autoMaxZ); without them it follows the objects' own
+/// highest points the same way.
 ClassModel buildClassModel(const std::string& label, const std::vector<ModelCloud>& objects,
                            const ModelBuildConfig& config, const ModelCloud* seed = nullptr,
-                           const std::function<void(std::size_t, std::size_t)>& progress = {});
+                           const std::function<void(std::size_t, std::size_t)>& progress = {},
+                           const std::vector<double>& box_heights = {});
 
 }  // namespace granular

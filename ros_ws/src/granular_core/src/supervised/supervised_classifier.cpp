@@ -1,3 +1,6 @@
+// kNN and the nu-SVMs share one Impl (feature scaling, labels, the OpenCV model), one training
+// path (the grid search) and one file format: kept together, over 400 lines, so that none of
+// it has to be exposed in a header.
 #include "granular_core/supervised/supervised_classifier.h"
 
 #include <algorithm>

@@ -1,4 +1,5 @@
-"""KITTI object-detection conventions in one place, and kitti_to_bag.
+"""KITTI object-detection conventions in one place, and kitti_to_bag. (Over 400 lines: every
+KITTI convention, reading and converting, lives here so that no other file restates one.)
 
 Frames (docs/kitti.md):
 - LiDAR (Velodyne): x forward, y left, z up; velodyne/NNNNNN.bin holds float32 x y z

@@ -1,4 +1,6 @@
 """Safe output for every Python tool, as granular_core/dataset/output_folder.h does it for C++.
+(Over 400 lines: the manifest, the lock, the staging, the atomic writers and the signal
+handling are one policy, and its pieces call each other.)
 
 - A folder a tool writes carries a manifest (MANIFEST) naming the tool and version; only such a
   folder may be replaced, and only when the user asks (--overwrite).

@@ -1,6 +1,8 @@
 #pragma once
 
-// One field list per config struct. Each config declares, next to its members,
+// One field list per config struct. (Over 400 lines: the templates that walk a field list to
+// validate, compare, write, read and describe a config belong together, and are header-only.)
+// Each config declares, next to its members,
 //
 //   template <class Self, class Visit>
 //   static void fields(Self& self, Visit& visit) {

@@ -40,6 +40,22 @@ def tool(package, name):
     return ["rosrun", package, name]
 
 
+# The tools the cases run.
+EXTRACT = tool("granular_ros", "extract_objects")
+BUILD_MODELS = tool("granular_ros", "build_models")
+TRAIN = tool("granular_ros", "train_classifier")
+CLASSIFY_REGISTRATION = tool("granular_ros", "classify_registration")
+CLASSIFY_SUPERVISED = tool("granular_ros", "classify_supervised")
+ONLINE_CLASSIFIER = tool("granular_ros", "online_classifier")
+SEGMENT_CLOUD = tool("granular_ros", "segment_cloud")
+BAG_TO_FILES = tool("granular_tools", "bag_to_files")
+BAG_TO_FILES_NODE = tool("granular_tools", "bag_to_files_node")
+SIMULATE = tool("granular_tools", "simulate_drive")
+RENDER = tool("granular_tools", "render_models")
+MAKE_REPORT = tool("granular_tools", "make_report")
+RUN_PIPELINE = tool("granular_tools", "run_pipeline")
+
+
 def run(command, cwd=None, env=None, timeout=300):
     """Run `command` to its end; its output is captured as text."""
     command = [str(part) for part in command]

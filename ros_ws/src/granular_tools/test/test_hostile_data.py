@@ -1,6 +1,7 @@
 """Hostile inputs, real-world data: free-text labels that must survive every stage, broken or
 implausible boxes, broken bags and configs. Each case runs the built tools as a user would and
 asserts the exit status, a message naming the culprit and that nothing crashed."""
+import csv
 import json
 import os
 
@@ -11,18 +12,12 @@ import rosbag
 import bagmaker
 import hostile
 from bagmaker import CLOUD_TOPIC, DETECTIONS_TOPIC
-from hostile import assert_fails_clearly, assert_no_crash, leftovers, run, tool
+from hostile import (assert_fails_clearly, assert_no_crash, leftovers, run, EXTRACT, BUILD_MODELS,
+                     TRAIN, CLASSIFY_REGISTRATION, CLASSIFY_SUPERVISED, BAG_TO_FILES, SIMULATE,
+                     MAKE_REPORT)
 from granular_tools.simulation import recorder
 from granular_tools.simulation.scene import Detection
 
-EXTRACT = tool("granular_ros", "extract_objects")
-BUILD_MODELS = tool("granular_ros", "build_models")
-TRAIN = tool("granular_ros", "train_classifier")
-CLASSIFY_REGISTRATION = tool("granular_ros", "classify_registration")
-CLASSIFY_SUPERVISED = tool("granular_ros", "classify_supervised")
-BAG_TO_FILES = tool("granular_tools", "bag_to_files")
-SIMULATE = tool("granular_tools", "simulate_drive")
-MAKE_REPORT = tool("granular_tools", "make_report")
 
 # Labels as real datasets and users write them (PandaSet's, and typed ones).
 FREE_TEXT_LABELS = ["Medium-sized_Truck", "Tram_/_Subway", "Other_Vehicle_-_Pedicab",
@@ -399,6 +394,7 @@ def sparse_objects_folder(folder):
     for name in packed.dtype.names:
         packed[name] = record[name]
     for index in range(1, 4):
+        packed["y"] = 0.5 * index  # the objects' points do not meet either
         (folder / f"Bus-100-{index}.pcd").write_bytes(header.encode() + packed.tobytes())
     return folder
 
@@ -417,7 +413,6 @@ def test_tall_classes_keep_their_roofs(drive, tmp_path):
     assert result.status == 0, str(result)
     document = json.loads((tmp_path / "m" / "models.json").read_text())
     heights = {}
-    import csv
     with open(drive / "objects" / "index.csv", encoding="utf-8") as stream:
         for row in csv.DictReader(stream):
             heights.setdefault(row["label"], []).append(float(row["height_m"]))

@@ -11,13 +11,10 @@ import pytest
 
 import hostile
 from conftest import REPO_ROOT
-from hostile import assert_fails_clearly, run, tool
+from hostile import (assert_fails_clearly, run, tool, ONLINE_CLASSIFIER, SEGMENT_CLOUD,
+                     BAG_TO_FILES_NODE, RUN_PIPELINE)
 
 LAUNCH = [str(REPO_ROOT / "scripts" / "launch")]
-RUN_PIPELINE = tool("granular_tools", "run_pipeline")
-ONLINE_CLASSIFIER = tool("granular_ros", "online_classifier")
-BAG_TO_FILES_NODE = tool("granular_tools", "bag_to_files_node")
-SEGMENT_CLOUD = tool("granular_ros", "segment_cloud")
 
 
 def free_port():
@@ -112,7 +109,13 @@ def test_a_successful_run_removes_an_earlier_failed_marker(drive, tmp_path):
 # --- the nodes at start-up ------------------------------------------------------------------
 
 def node(command, env, timeout=60):
-    return run(command + ["__name:=hostile_node"], env=env, timeout=timeout)
+    """Run a node as /hostile_node. `_name:=value` arguments stay on the parameter server after
+    the node ends, so each run clears what the one before left."""
+    try:
+        return run(command + ["__name:=hostile_node"], env=env, timeout=timeout)
+    finally:
+        subprocess.run(["rosparam", "delete", "/hostile_node"], env=env, check=False,
+                       capture_output=True)
 
 
 def test_a_models_folder_given_for_a_supervised_method_says_what_is_expected(drive,
@@ -161,7 +164,7 @@ def test_bag_to_files_node_into_a_path_under_a_regular_file_names_it(tmp_path, r
 
 
 @pytest.mark.parametrize("node_command,parameter,value,known", [
-    (SEGMENT_CLOUD, "hieght_threshold", "0.3", "height_threshold"),
+    (SEGMENT_CLOUD, "methd", "objects", "method"),
     (ONLINE_CLASSIFIER, "min_point", "10", "min_points"),
 ])
 def test_a_node_refuses_a_misspelt_parameter_and_names_the_known_ones(
@@ -170,20 +173,15 @@ def test_a_node_refuses_a_misspelt_parameter_and_names_the_known_ones(
     subprocess.run(["rosparam", "set", f"/hostile_node/{parameter}", value], env=env, check=True)
     extra = [] if node_command == SEGMENT_CLOUD else [
         "_method:=knn", f"_models:={drive / 'knn.yml'}"]
-    try:
-        result = node(node_command + extra, env)
-    finally:
-        subprocess.run(["rosparam", "delete", "/hostile_node"], env=env, check=False)
+    result = node(node_command + extra, env)
     assert_fails_clearly(result, 1, parameter, known)
 
 
 def test_a_node_parameter_of_the_wrong_type_is_named(ros_master):
     env = dict(ros_master)
-    subprocess.run(["rosparam", "set", "/hostile_node/cell_size", "fine"], env=env, check=True)
-    try:
-        result = node(SEGMENT_CLOUD, env)
-    finally:
-        subprocess.run(["rosparam", "delete", "/hostile_node"], env=env, check=False)
+    subprocess.run(["rosparam", "set", "/hostile_node/occupancy/cell_size", "fine"], env=env,
+                   check=True)
+    result = node(SEGMENT_CLOUD, env)
     assert_fails_clearly(result, 1, "cell_size", "expected a number")
 
 

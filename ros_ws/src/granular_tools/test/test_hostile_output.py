@@ -8,19 +8,10 @@ import signal
 import pytest
 
 import hostile
-from hostile import assert_fails_clearly, leftovers, run, snapshot, tool
+from hostile import (assert_fails_clearly, leftovers, run, snapshot, EXTRACT, BUILD_MODELS, TRAIN,
+                     CLASSIFY_REGISTRATION, CLASSIFY_SUPERVISED, BAG_TO_FILES, SIMULATE, RENDER,
+                     MAKE_REPORT, RUN_PIPELINE)
 from granular_tools import output
-
-EXTRACT = tool("granular_ros", "extract_objects")
-BUILD_MODELS = tool("granular_ros", "build_models")
-TRAIN = tool("granular_ros", "train_classifier")
-CLASSIFY_REGISTRATION = tool("granular_ros", "classify_registration")
-CLASSIFY_SUPERVISED = tool("granular_ros", "classify_supervised")
-BAG_TO_FILES = tool("granular_tools", "bag_to_files")
-SIMULATE = tool("granular_tools", "simulate_drive")
-RENDER = tool("granular_tools", "render_models")
-MAKE_REPORT = tool("granular_tools", "make_report")
-RUN_PIPELINE = tool("granular_tools", "run_pipeline")
 
 
 def folder_writers(drive):

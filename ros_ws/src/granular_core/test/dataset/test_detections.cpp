@@ -7,29 +7,16 @@
 #include <gtest/gtest.h>
 
 #include "granular_core/dataset/detections.h"
+#include "support/detections_json.h"
 #include "support/temporary_folder.h"
 
 namespace granular {
 namespace {
+using testing_support::detectionJson;
+using testing_support::frameJson;
 using testing_support::TemporaryFolderTest;
 
 namespace fs = std::filesystem;
-
-std::string detectionJson(int id, const std::string& label, const std::string& position,
-                          const std::string& size) {
-  return R"({"header": {"stamp": {"secs": 0, "nsecs": 0}, "frame_id": "", "seq": 0}, "id": )" +
-         std::to_string(id) + R"(, "label": ")" + label +
-         R"(", "score": 1.0, "bbox": {"position": {"position": )" + position +
-         R"(, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}, "size": )" + size +
-         R"(}, "velocity": {"linear": {"x": 0, "y": 0, "z": 0},)"
-         R"( "angular": {"x": 0, "y": 0, "z": 0}}})";
-}
-
-std::string frameJson(const std::string& detections) {
-  return R"({"header": {"stamp": {"secs": 1586102742, "nsecs": 765440}, "frame_id": "velodyne",)"
-         R"( "seq": 375}, "detections": [)" +
-         detections + "]}";
-}
 
 using DetectionsJsonTest = TemporaryFolderTest;
 

@@ -7,11 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include "support/model_clouds.h"
+
 #include "granular_core/dataset/pcd_io.h"
 #include "support/temporary_folder.h"
 
 namespace granular {
 namespace {
+using testing_clouds::pointsOf;
 using testing_support::TemporaryFolderTest;
 
 namespace fs = std::filesystem;
@@ -106,14 +109,6 @@ TEST_F(PcdIoTest, RejectsCloudsWithoutXyzOrWithWrongTypes) {
   EXPECT_THROW(readPcd(integer_x), std::runtime_error);
   EXPECT_THROW(readPcd(write("garbage.pcd", "not a point cloud\n")), std::runtime_error);
   EXPECT_THROW(readPcd(root_ / "absent.pcd"), std::runtime_error);
-}
-
-std::vector<Eigen::Vector3f> pointsOf(const ModelCloud& cloud) {
-  std::vector<Eigen::Vector3f> points;
-  for (const pcl::PointXYZ& point : cloud.points) {
-    points.push_back(point.getVector3fMap());
-  }
-  return points;
 }
 
 TEST(ConcatenateTest, ModelCloudDropsNonFinitePoints) {

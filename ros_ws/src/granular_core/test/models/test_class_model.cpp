@@ -12,20 +12,10 @@
 
 namespace granular {
 namespace {
+using testing_clouds::pointsOf;
+using testing_clouds::kCarSize;
 using testing_clouds::boxSurface;
-using testing_clouds::lattice;
 using testing_clouds::shifted;
-using testing_clouds::sphere;
-
-const Eigen::Vector3d kCarSize(4.4, 1.8, 1.5);
-
-std::vector<Eigen::Vector3f> pointsOf(const ModelCloud& cloud) {
-  std::vector<Eigen::Vector3f> points;
-  for (const pcl::PointXYZ& point : cloud.points) {
-    points.push_back(point.getVector3fMap());
-  }
-  return points;
-}
 
 // ---- class models --------------------------------------------------------------------------
 

@@ -11,18 +11,8 @@
 
 namespace granular {
 namespace {
-using testing_clouds::boxSurface;
+using testing_clouds::pointsOf;
 using testing_clouds::lattice;
-using testing_clouds::shifted;
-using testing_clouds::sphere;
-
-std::vector<Eigen::Vector3f> pointsOf(const ModelCloud& cloud) {
-  std::vector<Eigen::Vector3f> points;
-  for (const pcl::PointXYZ& point : cloud.points) {
-    points.push_back(point.getVector3fMap());
-  }
-  return points;
-}
 
 ModelCloud join(const ModelCloud& a, const ModelCloud& b) {
   ModelCloud both = a;

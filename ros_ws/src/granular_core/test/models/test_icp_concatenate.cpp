@@ -10,12 +10,11 @@
 
 namespace granular {
 namespace {
+using testing_clouds::kCarSize;
 using testing_clouds::boxSurface;
 using testing_clouds::lattice;
 using testing_clouds::shifted;
 using testing_clouds::sphere;
-
-const Eigen::Vector3d kCarSize(4.4, 1.8, 1.5);
 
 ModelCloud join(const ModelCloud& a, const ModelCloud& b) {
   ModelCloud both = a;

@@ -8,10 +8,7 @@
 
 namespace granular {
 namespace {
-using testing_clouds::boxSurface;
 using testing_clouds::lattice;
-using testing_clouds::shifted;
-using testing_clouds::sphere;
 
 TEST(MeshTest, TriangulatesASurfaceAndToleratesTinyModels) {
   const ModelCloud plane = lattice({0, 0, 1}, 0.05, 20, 20, 1);

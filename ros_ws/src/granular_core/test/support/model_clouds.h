@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -80,6 +81,18 @@ inline ModelCloud shifted(const ModelCloud& cloud, const Eigen::Vector3f& offset
   }
   return moved;
 }
+
+// The points of a cloud as vectors, to compare clouds point by point.
+inline std::vector<Eigen::Vector3f> pointsOf(const ModelCloud& cloud) {
+  std::vector<Eigen::Vector3f> points;
+  for (const pcl::PointXYZ& point : cloud.points) {
+    points.push_back(point.getVector3fMap());
+  }
+  return points;
+}
+
+// A car-sized box: length, width, height in metres.
+inline const Eigen::Vector3d kCarSize(4.4, 1.8, 1.5);
 
 }  // namespace testing_clouds
 }  // namespace granular

@@ -27,6 +27,7 @@ std::string usage() {
          "options:\n"
          "  --frames FOLDER        bag-to-files folder\n"
          "  --config FILE          YAML file like config/segmentation.yaml\n"
+         "  --ground-config FILE   YAML file like config/ground.yaml\n"
          "  --method NAME          objects (ground, range-aware grid, gates; default) or\n"
          "                         occupancy (the paper's grid on the whole cloud)\n"
          "  --max-distance M       metres between matched centres (default 1)\n"
@@ -35,8 +36,8 @@ std::string usage() {
          "                         only, e.g. 40 for KITTI's camera-labelled frames\n"
          "                         (default 180: all around)\n"
          "  --max-range M          count objects and segments nearer than M metres only\n"
-         "  --sensor-height M      the sensor's height above the road (objects.ground.plane.\n"
-         "                         sensor_height; the simulator's is 2.3)\n"
+         "  --sensor-height M      the sensor's height above the road (plane.sensor_height\n"
+         "                         of --ground-config; the simulator's is 2.3)\n"
          "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
          "                         (objects.azimuth_step_deg; the simulator's is 1)\n"
          "  --help                 print this help and exit\n"
@@ -44,7 +45,9 @@ std::string usage() {
          "Exit status: 0 done, 1 unreadable input, 2 bad option or configuration.\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
-         granular_ros::configurationHelp<granular::SegmentationStageConfig>();
+         granular_ros::configurationHelp<granular::SegmentationStageConfig>() +
+         "\nground configuration keys (--ground-config) and their defaults:\n" +
+         granular_ros::configurationHelp<granular::GroundConfig>();
 }
 
 }  // namespace
@@ -52,15 +55,18 @@ std::string usage() {
 int main(int argc, char** argv) {
   std::string frames;
   std::optional<std::string> config_file;
+  std::optional<std::string> ground_config_file;
   std::optional<std::string> method;
   std::optional<double> sensor_height;
   std::optional<double> azimuth_step;
   granular::SegmentationEvaluationOptions options;
   granular::SegmentationStageConfig config;
+  granular::GroundConfig ground;
   granular_ros::Tool tool("evaluate_segmentation", usage);
   tool.options()
       .required("--frames", frames)
       .value("--config", config_file)
+      .value("--ground-config", ground_config_file)
       .value("--method", method)
       .number("--max-distance", options.max_distance)
       .number("--min-points", options.min_points)
@@ -84,11 +90,14 @@ int main(int argc, char** argv) {
             }
             stage.method = *chosen;
           }
-          if (sensor_height) {
-            stage.objects.ground.plane.sensor_height = *sensor_height;
-          }
           if (azimuth_step) {
             stage.objects.azimuth_step_deg = *azimuth_step;
+          }
+        });
+    ground = granular_ros::buildConfig<granular::GroundConfig>(
+        ground_config_file, [&](granular::GroundConfig& chosen) {
+          if (sensor_height) {
+            chosen.plane.sensor_height = *sensor_height;
           }
         });
     if (!(options.max_distance >= 0.0) || !(options.half_field_of_view_deg > 0.0) ||
@@ -99,6 +108,6 @@ int main(int argc, char** argv) {
   };
   return tool.run(argc, argv, configure, [&] {
     options.progress = tool.progress("segmenting", "clouds");
-    granular::evaluateSegmentation(frames, config, options).report(std::cout);
+    granular::evaluateSegmentation(frames, ground, config, options).report(std::cout);
   });
 }

@@ -46,6 +46,8 @@ std::string usage() {
          "                    complete objects folder N<thresh>/ per threshold\n"
          "  --n-thresh LIST   minimum points per object, comma-separated, e.g. 10,50,100,300,500\n"
          "                    (default " + joinValues(defaults.n_thresh) + ")\n"
+         "  --boxes FOLDER    take the boxes from FOLDER/<stamp>.json (fit_cuboids' output, for\n"
+         "                    a bag without boxes) instead of the frames' detections_3d/\n"
          "  --threshold-folders\n"
          "                    write N<thresh>/ inside --out even for a single threshold\n"
          "  --labels LIST     labels to extract, comma-separated, e.g. Sedan,SUV (default: all)\n"
@@ -75,6 +77,7 @@ struct Options {
   std::optional<std::string> n_thresh;
   std::optional<std::string> labels;
   std::optional<std::string> padding;
+  std::string boxes;
   bool overwrite = false;
   bool threshold_folders = false;
 };
@@ -121,11 +124,13 @@ int main(int argc, char** argv) {
       .value("--config", options.config_file)
       .value("--n-thresh", options.n_thresh)
       .value("--labels", options.labels)
-      .value("--padding", options.padding);
+      .value("--padding", options.padding)
+      .value("--boxes", options.boxes);
   return tool.run(argc, argv, [&] { config = buildExtractionConfig(options); }, [&] {
     granular::ExtractFolderOptions run;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
     run.threshold_folders = options.threshold_folders;
+    run.boxes = options.boxes;
     run.progress = tool.progress("extracting", "frames");
     granular::extractFolder(options.in, options.out, config, run).report(std::cout, std::cerr);
   });

@@ -1,5 +1,5 @@
-// segment_cloud: boxes for clouds without detections (config/segmentation.yaml: the ground, then
-// the occupancy grid of Himmelsbach et al., section II). Each cloud on ~input becomes a
+// segment_cloud: boxes for clouds without detections (config/ground.yaml: the ground, then
+// config/segmentation.yaml: the occupancy grid of Himmelsbach et al., section II). Each cloud on ~input becomes a
 // Detection3DArray on ~output, one box labelled "unknown" per segment, for the online
 // classifier to classify.
 #include <chrono>
@@ -17,19 +17,23 @@
 
 namespace {
 
-// The node's parameters: the segmentation's (config/segmentation.yaml) and its own.
+// The node's parameters: the ground's under ~ground (config/ground.yaml), the segmentation's
+// (config/segmentation.yaml) and its own.
 struct SegmentCloudParameters {
+  granular::GroundConfig ground;
   granular::SegmentationStageConfig segmentation;
   double report_interval = 10.0;  ///< s between latency lines in the log
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
+    visit("ground", self.ground);
     granular::SegmentationStageConfig::fields(self.segmentation, visit);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
 };
 
 void validate(const SegmentCloudParameters& parameters) {
+  granular::validate(parameters.ground);
   granular::validate(parameters.segmentation);
   granular::config::validateFields(parameters);
 }
@@ -40,7 +44,7 @@ class SegmentCloud {
     const auto parameters =
         granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
     config_ = parameters.segmentation;
-    segmenter_ = std::make_unique<granular::FrameSegmenter>(config_);
+    segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);

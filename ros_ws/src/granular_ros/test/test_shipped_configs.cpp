@@ -1,5 +1,5 @@
-// The shipped config/supervised.yaml and config/segmentation.yaml load, validate, and state the
-// defaults (where they differ on purpose, the test says which value and why).
+// The shipped config/supervised.yaml, segmentation.yaml and ground.yaml load, validate, and
+// state the defaults (where they differ on purpose, the test says which value and why).
 #include <filesystem>
 #include <string>
 
@@ -55,10 +55,17 @@ TEST(ShippedConfigTest, SegmentationYamlStatesThePapersValuesButTheLink) {
 TEST(ShippedConfigTest, SegmentationYamlStatesTheObjectSegmentationDefaults) {
   granular::SegmentationStageConfig stage;
   stage.objects.gates.min_top = 9.0;
-  stage.objects.ground.plane.eps_angle_deg = 45.0;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "segmentation.yaml", stage));
   EXPECT_TRUE(stage.objects == granular::ObjectSegmentationConfig());
   EXPECT_EQ(stage.method, granular::SegmentationMethod::kObjects);
+}
+
+TEST(ShippedConfigTest, GroundYamlStatesTheGroundDefaults) {
+  granular::GroundConfig ground;
+  ground.plane.eps_angle_deg = 45.0;
+  ground.lines.sectors = 7;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "ground.yaml", ground));
+  EXPECT_TRUE(ground == granular::GroundConfig());
 }
 
 using ShippedConfigKeysTest = TemporaryYamlTest;

@@ -30,6 +30,29 @@ def cloud_without_xyz(t):
                        point_step=4, row_step=4, data=b"\x00\x00\x80\x3f", is_dense=True)
 
 
+def velodyne_cloud(t, points):
+    """A cloud in velodyne_pointcloud's layout: x y z intensity (float32), ring (uint16), time
+    (float32), 22 bytes a point."""
+    fields = [PointField("x", 0, PointField.FLOAT32, 1), PointField("y", 4, PointField.FLOAT32, 1),
+              PointField("z", 8, PointField.FLOAT32, 1),
+              PointField("intensity", 12, PointField.FLOAT32, 1),
+              PointField("ring", 16, PointField.UINT16, 1),
+              PointField("time", 18, PointField.FLOAT32, 1)]
+    record = np.dtype({"names": ["x", "y", "z", "intensity", "ring", "time"],
+                       "formats": ["<f4", "<f4", "<f4", "<f4", "<u2", "<f4"],
+                       "offsets": [0, 4, 8, 12, 16, 18], "itemsize": 22})
+    points = np.asarray(points, float)
+    data = np.zeros(len(points), dtype=record)
+    for axis, name in enumerate("xyz"):
+        data[name] = points[:, axis]
+    data["intensity"] = 7.5
+    data["ring"] = np.arange(len(points)) % 64
+    data["time"] = np.linspace(0.0, 0.1, len(points))
+    return PointCloud2(header=Header(stamp=stamp(t), frame_id="velodyne"), height=1,
+                       width=len(points), fields=fields, is_bigendian=False, point_step=22,
+                       row_step=22 * len(points), data=data.tobytes(), is_dense=True)
+
+
 def detections(t, labels=("Sedan",), seq=0):
     boxes = [Detection(100 + i, label, np.array([5.0 + i, -1.0, -1.5]), (0.0, 0.0, 0.0, 1.0),
                        np.array([4.5, 1.8, 1.4]), 3.0) for i, label in enumerate(labels)]

@@ -92,7 +92,30 @@ def test_bag_without_a_topic_names_the_topics_it_has(tmp_path, capsys):
     assert run(bag, tmp_path / "out") == 1
     error = capsys.readouterr().err
     assert f"no topic {DETECTIONS_TOPIC}" in error and CLOUD_TOPIC in error
+    assert "--clouds-only" in error
     assert not (tmp_path / "out").exists()
+
+
+def test_a_clouds_only_bag_gives_every_cloud_in_its_own_layout_and_no_boxes(tmp_path, capsys):
+    points = np.array([[4.0, 1.0, -1.7], [12.5, -3.0, 0.25], [-6.0, 2.0, -1.0]])
+    bag = bagmaker.write(tmp_path / "in.bag", [
+        (CLOUD_TOPIC, bagmaker.velodyne_cloud(0.0, points)),
+        (CLOUD_TOPIC, bagmaker.velodyne_cloud(0.1, points[:2])),
+        (CLOUD_TOPIC, bagmaker.velodyne_cloud(0.2, points[:1]))])
+    assert offline.main(["--bag", str(bag), "--out", str(tmp_path / "out"), "--clouds-only"]) == 0
+    assert "clouds read 3, written 3 (clouds only)" in capsys.readouterr().out
+    assert stems(tmp_path / "out", "pcd", ".pcd") == [
+        stamp_name(bagmaker.stamp(t)) for t in (0.0, 0.1, 0.2)]
+    assert list((tmp_path / "out" / "detections_3d").iterdir()) == []
+    first = (tmp_path / "out" / "pcd" / (stamp_name(bagmaker.stamp(0.0)) + ".pcd")).read_bytes()
+    header, _, data = first.partition(b"DATA binary\n")
+    assert b"FIELDS x y z intensity ring time\n" in header
+    record = np.frombuffer(data, dtype=np.dtype({
+        "names": ["x", "y", "z", "ring"], "formats": ["<f4", "<f4", "<f4", "<u2"],
+        "offsets": [0, 4, 8, 16], "itemsize": 22}))
+    np.testing.assert_array_equal(np.stack([record["x"], record["y"], record["z"]], 1),
+                                  points.astype(np.float32))
+    np.testing.assert_array_equal(record["ring"], [0, 1, 2])
 
 
 def test_cloud_without_xyz_is_an_error_and_nothing_is_written(tmp_path, capsys):

@@ -24,8 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Stems of the files in `folder` with the given extension; sorted, so equal-length numeric
-// stamps come out in time order.
+// Stems of the files in `folder` with the given extension, hidden files (a tool's manifest)
+// left out; sorted, so equal-length numeric stamps come out in time order.
 std::set<std::string> stems(const fs::path& folder, const std::string& extension) {
   if (!fs::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": no such folder (a bag-to-files folder has " +
@@ -33,7 +33,8 @@ std::set<std::string> stems(const fs::path& folder, const std::string& extension
   }
   std::set<std::string> result;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().extension() == extension) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && entry.path().extension() == extension && name[0] != '.') {
       result.insert(entry.path().stem().string());
     }
   }
@@ -43,13 +44,14 @@ std::set<std::string> stems(const fs::path& folder, const std::string& extension
 // Stamps with both files, in order; each unpaired file is added to `skipped` with the reason.
 std::vector<std::string> pairStamps(const std::set<std::string>& pcd_stamps,
                                     const std::set<std::string>& json_stamps,
+                                    const std::string& json_place,
                                     std::vector<std::string>& skipped) {
   std::vector<std::string> paired;
   for (const std::string& stamp : pcd_stamps) {
     if (json_stamps.count(stamp) != 0) {
       paired.push_back(stamp);
     } else {
-      skipped.push_back(stamp + ": no detections_3d/" + stamp + ".json");
+      skipped.push_back(stamp + ": no " + json_place + stamp + ".json");
     }
   }
   for (const std::string& stamp : json_stamps) {
@@ -166,16 +168,19 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
   thresholds.erase(std::unique(thresholds.begin(), thresholds.end()), thresholds.end());
 
   const fs::path pcd_folder = in / "pcd";
-  const fs::path json_folder = in / "detections_3d";
+  const fs::path json_folder = options.boxes.empty() ? in / "detections_3d" : options.boxes;
   const std::set<std::string> pcd_stamps = stems(pcd_folder, ".pcd");
   const std::set<std::string> json_stamps = stems(json_folder, ".json");
 
   ExtractFolderSummary summary;
+  // The frames' own boxes are named as the folder layout has them; others by their path.
+  const std::string json_place =
+      options.boxes.empty() ? std::string("detections_3d/") : (json_folder / "").string();
   const std::vector<std::string> stamps =
-      pairStamps(pcd_stamps, json_stamps, summary.frames_skipped);
+      pairStamps(pcd_stamps, json_stamps, json_place, summary.frames_skipped);
   if (stamps.empty()) {
-    throw std::runtime_error(in.string() +
-                             ": no PCD in pcd/ has a matching JSON in detections_3d/");
+    throw std::runtime_error(in.string() + ": no PCD in pcd/ has a matching JSON in " +
+                             json_folder.string());
   }
 
   OutputFolder output(out, "extract_objects", options.output);

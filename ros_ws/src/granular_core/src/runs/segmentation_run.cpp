@@ -34,10 +34,10 @@ double percentile95(std::vector<double> values) {
 
 }  // namespace
 
-SegmentationEvaluation evaluateSegmentation(const fs::path& frames,
+SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const GroundConfig& ground,
                                             const SegmentationStageConfig& config,
                                             const SegmentationEvaluationOptions& options) {
-  validate(config);
+  FrameSegmenter segmenter(ground, config);  // validates both
   const fs::path pcd = frames / "pcd";
   if (!fs::is_directory(pcd)) {
     throw std::runtime_error(pcd.string() + ": no such folder (a bag-to-files folder has pcd/ "
@@ -56,7 +56,6 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames,
 
   SegmentationEvaluation evaluation;
   evaluation.options = options;
-  FrameSegmenter segmenter(config);
   for (const fs::path& file : clouds) {
     const Cloud cloud = readPcd(file);
     const fs::path json = frames / "detections_3d" / (file.stem().string() + ".json");

@@ -6,6 +6,8 @@
 #include <limits>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 
@@ -121,7 +123,6 @@ void principalThickness(const Cloud& cloud, const std::vector<std::size_t>& indi
 }  // namespace
 
 void validate(const ObjectSegmentationConfig& config) {
-  validate(config.ground);
   config::validateFields(config);
   config::require(config.min_range < config.max_range, "min_range must be below max_range");
   config::require(2.0 * config.max_range / config.cell_size <= 20000.0,
@@ -133,16 +134,20 @@ ObjectSegmenter::ObjectSegmenter(const ObjectSegmentationConfig& config) : confi
   slot_.assign(PlaneGrid(config_.cell_size, config_.max_range).cells(), -1);
 }
 
-ObjectSegmentation segmentObjects(const Cloud& cloud, const ObjectSegmentationConfig& config) {
-  return ObjectSegmenter(config).segment(cloud);
+ObjectSegmentation segmentObjects(const Cloud& cloud, const GroundConfig& ground,
+                                  const ObjectSegmentationConfig& config) {
+  return ObjectSegmenter(config).segment(cloud, estimateGround(cloud, ground));
 }
 
-ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud) {
+ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate ground) {
   const ObjectSegmentationConfig& config = config_;
+  if (ground.heights.size() != cloud.size() || ground.ground.size() != cloud.size()) {
+    throw std::invalid_argument("ObjectSegmenter::segment: the ground is not this cloud's");
+  }
   ObjectSegmentation result;
-  result.ground = estimateGround(cloud, config.ground);
+  result.ground = std::move(ground);
   const std::vector<float>& heights = result.ground.heights;
-  const double min_height = config.ground.ground_height;
+  const std::vector<bool>& on_ground = result.ground.ground;
 
   // Candidates: standing above the ground, below overhangs, off the own vehicle, on the grid;
   // their cells become the frame's occupied cells (slot_ numbers them as they come).
@@ -155,7 +160,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud) {
   const double max_range_sq = config.max_range * config.max_range;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const float height = heights[i];
-    if (!(height >= min_height)) {  // also NaN
+    if (on_ground[i] || !std::isfinite(height)) {
       continue;
     }
     const PointXYZIT& point = cloud[i];
@@ -347,14 +352,15 @@ void validate(const SegmentationStageConfig& config) {
   validate(config.occupancy);
 }
 
-FrameSegmenter::FrameSegmenter(const SegmentationStageConfig& config)
-    : config_(config), objects_(config.objects) {
+FrameSegmenter::FrameSegmenter(const GroundConfig& ground, const SegmentationStageConfig& config)
+    : ground_(ground), config_(config), objects_(config.objects) {
+  validate(ground_);
   validate(config_);
 }
 
 ObjectSegmentation FrameSegmenter::segment(const Cloud& cloud) {
   if (config_.method == SegmentationMethod::kObjects) {
-    return objects_.segment(cloud);
+    return objects_.segment(cloud, estimateGround(cloud, ground_));
   }
   ObjectSegmentation result;
   result.segments = segmentCloud(cloud, config_.occupancy);

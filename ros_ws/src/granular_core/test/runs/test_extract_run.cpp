@@ -108,6 +108,27 @@ TEST_F(ExtractFolderTest, OneThresholdWritesIntoTheOutputFolder) {
   EXPECT_FALSE(fs::exists(out / "N50"));
 }
 
+TEST_F(ExtractFolderTest, BoxesFromAnotherFolderReplaceTheFramesOwn) {
+  // fit_cuboids' output for a bag without boxes: one unknown box on the Sedan's points, and
+  // the tool's manifest, which is no frame.
+  const fs::path boxes = root_ / "cuboids";
+  write(boxes / (stamp_ + ".json"),
+        frameJson(detectionJson(0, "unknown", R"({"x": 10.6, "y": 0.0, "z": -1.0})",
+                                R"({"x": 4.0, "y": 2.0, "z": 1.5})")));
+  write(boxes / ".granular.json", R"({"tool": "fit_cuboids"})");
+  ExtractionConfig config;
+  config.n_thresh = {10};
+  ExtractFolderOptions options;
+  options.boxes = boxes;
+  const ExtractFolderSummary summary = extractFolder(in_, root_ / "objects", config, options);
+  EXPECT_EQ(summary.frames_read, 1u);
+  ASSERT_EQ(summary.frames_skipped.size(), 1u);
+  EXPECT_EQ(summary.frames_skipped[0], "1586102743000000000: no " +
+                                           (boxes / "1586102743000000000.json").string());
+  EXPECT_EQ(readPcd(root_ / "objects" / ("unknown-" + stamp_ + "-1.pcd")).size(), 120u);
+  EXPECT_EQ(summary.objects.at(10).size(), 1u);
+}
+
 TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {
   const fs::path out = root_ / "objects";
   write(out / "keep.txt", "mine");

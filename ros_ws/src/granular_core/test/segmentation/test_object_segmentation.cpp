@@ -51,11 +51,12 @@ std::set<std::size_t> addBox(Cloud& cloud, const Eigen::Vector2d& centre, double
   return added;
 }
 
-ObjectSegmentationConfig configuration() {
-  ObjectSegmentationConfig config;
-  config.ground.plane.sensor_height = kSensorHeight;
-  config.ground.plane.seed_half_fov_deg = 180.0;
-  return config;
+// The ground stage for the test's road: the sensor kSensorHeight above it, seeds all around.
+GroundConfig groundConfiguration() {
+  GroundConfig ground;
+  ground.plane.sensor_height = kSensorHeight;
+  ground.plane.seed_half_fov_deg = 180.0;
+  return ground;
 }
 
 TEST(ObjectSegmentationTest, TwoBoxesThirtyCentimetresApartAreTwoSegments) {
@@ -63,7 +64,7 @@ TEST(ObjectSegmentationTest, TwoBoxesThirtyCentimetresApartAreTwoSegments) {
   // Two cars nose to tail 10 m ahead, 0.3 m between them.
   const std::set<std::size_t> first = addBox(cloud, {8.0, 0.0}, 0.0, {4.0, 1.8, 1.5});
   const std::set<std::size_t> second = addBox(cloud, {12.3, 0.0}, 0.0, {4.0, 1.8, 1.5});
-  const ObjectSegmentation result = segmentObjects(cloud, configuration());
+  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
   ASSERT_EQ(result.segments.size(), 2u);
   EXPECT_EQ(std::set<std::size_t>(result.segments[0].indices.begin(),
                                   result.segments[0].indices.end()),
@@ -77,7 +78,7 @@ TEST(ObjectSegmentationTest, AGroundedBoxGetsItsFootprintFromTheRoadToItsTop) {
   Cloud cloud = road();
   const double yaw = 0.4;
   addBox(cloud, {-9.0, 6.0}, yaw, {4.4, 1.8, 1.5});
-  const ObjectSegmentation result = segmentObjects(cloud, configuration());
+  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
   ASSERT_EQ(result.segments.size(), 1u);
   const OrientedBox& box = result.segments[0].box;
   EXPECT_NEAR(box.centre().x(), -9.0, 0.03);
@@ -97,7 +98,7 @@ TEST(ObjectSegmentationTest, WallsPolesAndKerbsAreGatedOutAndCounted) {
   addBox(cloud, {-6.0, -6.0}, 0.0, {9.0, 0.3, 1.2});          // a fence: the wall gate
   addBox(cloud, {6.0, 6.0}, 0.0, {0.25, 0.25, 4.0});          // a pole
   addBox(cloud, {-10.0, 3.0}, 0.0, {3.0, 0.2, 0.4});          // a kerb stone: too low
-  const ObjectSegmentation result = segmentObjects(cloud, configuration());
+  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
   ASSERT_EQ(result.segments.size(), 1u);
   EXPECT_NEAR(result.segments[0].box.centre().x(), 10.0, 0.05);
   EXPECT_EQ(result.rejected.at("max_size"), 1u);
@@ -116,11 +117,11 @@ TEST(ObjectSegmentationTest, FarCellsJoinAcrossTheGapsBetweenReturns) {
                                  static_cast<float>(-kSensorHeight + h), 0, 0.0));
     }
   }
-  ObjectSegmentationConfig config = configuration();
+  ObjectSegmentationConfig config;
   config.azimuth_step_deg = 0.5;
-  ASSERT_EQ(segmentObjects(cloud, config).segments.size(), 1u);
+  ASSERT_EQ(segmentObjects(cloud, groundConfiguration(), config).segments.size(), 1u);
   config.link_azimuth_steps = 0.0;  // touching cells only: each of the 14 columns alone
-  EXPECT_EQ(segmentObjects(cloud, config).segments.size(), 14u);
+  EXPECT_EQ(segmentObjects(cloud, groundConfiguration(), config).segments.size(), 14u);
 }
 
 TEST(ObjectSegmentationTest, ValidateNamesTheField) {

@@ -20,6 +20,9 @@ struct ExtractFolderOptions {
   /// Write `out/N<thresh>/` even for a single threshold, so that a run's objects folder has the
   /// same layout whatever thresholds it was given (run_pipeline).
   bool threshold_folders = false;
+  /// A folder of `<stamp>.json` boxes (fit_cuboids' output for a bag without boxes) used
+  /// instead of `in/detections_3d/`; empty: the frames' own.
+  std::filesystem::path boxes;
   /// Called after each frame with (frames done, frames to do); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
@@ -47,7 +50,8 @@ struct ExtractFolderSummary {
 };
 
 /// Extracts every frame of a bag-to-files folder `in` (`in/pcd/<stamp>.pcd` paired with
-/// `in/detections_3d/<stamp>.json`, in stamp order) into objects folders under `out`.
+/// `in/detections_3d/<stamp>.json`, or options.boxes' `<stamp>.json`, in stamp order) into
+/// objects folders under `out`.
 ///
 /// An objects folder holds the object PCDs (named by objectFileName) with at least N_thresh points
 /// and an `index.csv` with the columns

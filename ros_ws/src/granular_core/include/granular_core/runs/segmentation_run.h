@@ -41,11 +41,12 @@ struct SegmentationEvaluation {
   void report(std::ostream& out) const;
 };
 
-/// Segments every cloud of the bag-to-files folder `frames` (pcd/<stamp>.pcd) with `config`
-/// and compares the segments with detections_3d/<stamp>.json: greedy one-to-one matching of
+/// Segments every cloud of the bag-to-files folder `frames` (pcd/<stamp>.pcd) with `ground`
+/// and `config` and compares the segments with detections_3d/<stamp>.json: greedy one-to-one matching of
 /// box centres in x-y, nearest first (matchSegments). Throws std::runtime_error naming the
 /// folder or file for a missing folder, a folder without clouds, or an unreadable file.
 SegmentationEvaluation evaluateSegmentation(const std::filesystem::path& frames,
+                                            const GroundConfig& ground,
                                             const SegmentationStageConfig& config,
                                             const SegmentationEvaluationOptions& options = {});
 

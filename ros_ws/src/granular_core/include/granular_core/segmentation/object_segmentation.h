@@ -62,15 +62,15 @@ struct SegmentGates {
   }
 };
 
-/// Segmentation of real scans without boxes: the ground stage first, then the paper's
-/// occupancy grid over the points standing above the ground, whose cells join over gaps that
-/// grow with range (a rotating LiDAR's returns lie farther apart far away), then the gates,
-/// and a box per segment: the footprint's minimum-area rectangle, from the ground to the top.
+/// Segmentation of real scans without boxes, after the ground stage (config/ground.yaml): the
+/// paper's occupancy grid over the points standing above the ground, whose cells join over gaps
+/// that grow with range (a rotating LiDAR's returns lie farther apart far away), then the
+/// gates, and a box per segment: the footprint's minimum-area rectangle, from the ground to
+/// the top.
 struct ObjectSegmentationConfig {
-  GroundConfig ground;
-  /// m above the ground: the points between min_height (ground.ground_height when below it)
-  /// and max_height are the candidates; above, overhangs (crowns, awnings) that would join a
-  /// car to its tree.
+  /// m above the ground: the points above the ground stage's ground_height and below
+  /// max_height are the candidates; above, overhangs (crowns, awnings) that would join a car
+  /// to its tree.
   double max_height = 3.0;
   double min_range = 2.5;    ///< m: nearer points are the sensor's own vehicle
   double max_range = 80.0;   ///< m: the grid covers this around the sensor
@@ -87,7 +87,6 @@ struct ObjectSegmentationConfig {
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     using namespace config;
-    visit("ground", self.ground);
     visit("max_height", self.max_height, positive("m"));
     visit("min_range", self.min_range, nonNegative("m"));
     visit("max_range", self.max_range, positive("m"));
@@ -104,7 +103,7 @@ void validate(const ObjectSegmentationConfig& config);
 
 /// One frame's segmentation.
 struct ObjectSegmentation {
-  GroundEstimate ground;
+  GroundEstimate ground;  ///< what the segmentation stood on (empty for the occupancy method)
   /// The segments that passed the gates. Segment::indices are the segment's candidate points
   /// (the points above the ground), ascending; the box's bottom is the ground under them.
   std::vector<Segment> segments;
@@ -120,9 +119,10 @@ class ObjectSegmenter {
   /// Validates `config`.
   explicit ObjectSegmenter(const ObjectSegmentationConfig& config = {});
 
-  /// The segments of `cloud` (sensor frame, z up), in the order of their first cell in a
-  /// row-major scan of the grid.
-  ObjectSegmentation segment(const Cloud& cloud);
+  /// The segments of `cloud` (sensor frame, z up) standing on `ground` (estimateGround of the
+  /// same cloud), in the order of their first cell in a row-major scan of the grid. `ground`
+  /// becomes the result's.
+  ObjectSegmentation segment(const Cloud& cloud, GroundEstimate ground);
 
   const ObjectSegmentationConfig& config() const { return config_; }
 
@@ -132,8 +132,9 @@ class ObjectSegmenter {
   std::vector<std::int32_t> slot_;
 };
 
-/// One cloud through a fresh ObjectSegmenter.
-ObjectSegmentation segmentObjects(const Cloud& cloud, const ObjectSegmentationConfig& config = {});
+/// One cloud through the ground stage and a fresh ObjectSegmenter.
+ObjectSegmentation segmentObjects(const Cloud& cloud, const GroundConfig& ground = {},
+                                  const ObjectSegmentationConfig& config = {});
 
 /// The box-free stage's choice of method.
 enum class SegmentationMethod {
@@ -164,15 +165,17 @@ struct SegmentationStageConfig {
 
 void validate(const SegmentationStageConfig& config);
 
-/// The configured method, cloud after cloud.
+/// The configured method, cloud after cloud: for the objects method the ground stage
+/// (config/ground.yaml) first.
 class FrameSegmenter {
  public:
-  /// Validates `config`.
-  explicit FrameSegmenter(const SegmentationStageConfig& config);
+  /// Validates both configurations.
+  FrameSegmenter(const GroundConfig& ground, const SegmentationStageConfig& config);
   /// The segments of `cloud`; for the occupancy method, no ground and nothing rejected.
   ObjectSegmentation segment(const Cloud& cloud);
 
  private:
+  GroundConfig ground_;
   SegmentationStageConfig config_;
   ObjectSegmenter objects_;
 };

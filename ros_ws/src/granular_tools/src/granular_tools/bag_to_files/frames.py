@@ -78,6 +78,13 @@ class PairWriter:
         self._write(os.path.join(self.folder, JSON_FOLDER, name + ".json"), text, "JSON")
         return name
 
+    def write_cloud(self, cloud):
+        """Write a cloud of a bag without boxes, named by its stamp; return that name."""
+        name = stamp_name(cloud.header.stamp)
+        self._write(os.path.join(self.folder, PCD_FOLDER, name + ".pcd"), cloud_to_pcd(cloud),
+                    "PCD")
+        return name
+
 
 def dict_to_detections(document):
     """The report's JSON back into a Detection3DArray (the inverse of detections_to_dict)."""

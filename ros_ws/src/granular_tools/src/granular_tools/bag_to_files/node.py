@@ -10,7 +10,7 @@ from .config import BagToFilesConfig
 from ..output import OutputError, claimed_folder
 from .detections import DetectionCleaner
 from .frames import PairWriter, prepare_output
-from .pairing import Pairing
+from .pairing import CloudsOnly, Pairing
 from .pcd import CloudError
 
 SILENCE_WARNING_AFTER = 5.0  # s without a message on a topic before a warning
@@ -23,7 +23,8 @@ def read_config():
         cloud_topic=rospy.get_param("~cloud_topic", defaults.cloud_topic),
         detections_topic=rospy.get_param("~detections_topic", defaults.detections_topic),
         slop=float(rospy.get_param("~slop", defaults.slop)),
-        queue_size=int(rospy.get_param("~queue_size", defaults.queue_size))).check()
+        queue_size=int(rospy.get_param("~queue_size", defaults.queue_size)),
+        clouds_only=bool(rospy.get_param("~clouds_only", defaults.clouds_only))).check()
 
 
 class BagToFilesNode:
@@ -33,19 +34,24 @@ class BagToFilesNode:
         writer = PairWriter(self.out)
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write,
-                               cleaner=DetectionCleaner(self._lookup))
         self._writer = writer
         # Both subscriber threads feed one synchroniser; one lock keeps the counts exact.
         self.lock = threading.Lock()
         self.failed = None
         rospy.Subscriber(self.config.cloud_topic, PointCloud2, self._on_cloud, queue_size=50)
-        rospy.Subscriber(self.config.detections_topic, Detection3DArray, self._on_detections,
-                         queue_size=100)
+        if self.config.clouds_only:
+            self.pairing = CloudsOnly(self._write_cloud)
+            rospy.loginfo("bag_to_files: writing every cloud of %s (clouds only) into %s",
+                          self.config.cloud_topic, self.out)
+        else:
+            self.pairing = Pairing(self.config.slop, self.config.queue_size, self._write,
+                                   cleaner=DetectionCleaner(self._lookup))
+            rospy.Subscriber(self.config.detections_topic, Detection3DArray,
+                             self._on_detections, queue_size=100)
+            rospy.loginfo("bag_to_files: writing pairs of %s and %s (slop %.3f s) into %s",
+                          self.config.cloud_topic, self.config.detections_topic,
+                          self.config.slop, self.out)
         rospy.Timer(rospy.Duration(SILENCE_WARNING_AFTER), self._warn_if_silent, oneshot=True)
-        rospy.loginfo("bag_to_files: writing pairs of %s and %s (slop %.3f s) into %s",
-                      self.config.cloud_topic, self.config.detections_topic, self.config.slop,
-                      self.out)
 
     def _lookup(self, target, source, stamp):
         try:
@@ -64,6 +70,13 @@ class BagToFilesNode:
             self.failed = error
             rospy.signal_shutdown(f"cannot write a pair: {error}")
 
+    def _write_cloud(self, cloud):
+        try:
+            self._writer.write_cloud(cloud)
+        except (CloudError, OSError) as error:
+            self.failed = error
+            rospy.signal_shutdown(f"cannot write a cloud: {error}")
+
     def _on_cloud(self, cloud):
         with self.lock:
             self.pairing.add_cloud(cloud)
@@ -74,8 +87,10 @@ class BagToFilesNode:
 
     def _warn_if_silent(self, _event):
         stats = self.pairing.stats
-        for topic, count in ((self.config.cloud_topic, stats.clouds),
-                             (self.config.detections_topic, stats.detection_messages)):
+        watched = [(self.config.cloud_topic, stats.clouds)]
+        if not self.config.clouds_only:
+            watched.append((self.config.detections_topic, stats.detection_messages))
+        for topic, count in watched:
             if count == 0:
                 rospy.logwarn("bag_to_files: nothing on %s after %.0f s; still waiting", topic,
                               SILENCE_WARNING_AFTER)

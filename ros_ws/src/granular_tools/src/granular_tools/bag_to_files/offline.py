@@ -2,7 +2,6 @@
 import argparse
 import dataclasses
 import struct
-import sys
 import time
 
 import genpy
@@ -15,7 +14,7 @@ from .config import BagToFilesConfig
 from ..output import OutputError, OutputFolder, run_main
 from .detections import DetectionCleaner, bag_transforms
 from .frames import PairWriter, prepare_output
-from .pairing import Pairing, allow_without_node
+from .pairing import CloudsOnly, Pairing, allow_without_node
 from .pcd import CloudError
 
 
@@ -36,19 +35,28 @@ class StampedRaw:
         return self.message_class().deserialize(self.raw)
 
 
+def read_topics(config):
+    """The topics a conversion reads, with the message type each must carry."""
+    topics = {config.cloud_topic: "sensor_msgs/PointCloud2"}
+    if not config.clouds_only:
+        topics[config.detections_topic] = "lgsvl_msgs/Detection3DArray"
+    return topics
+
+
 def check_topics(bag, path, config):
+    """The messages to read; a BagError naming what the bag holds when a topic is missing."""
     topics = bag.get_type_and_topic_info().topics
-    expected = {config.cloud_topic: "sensor_msgs/PointCloud2",
-                config.detections_topic: "lgsvl_msgs/Detection3DArray"}
+    expected = read_topics(config)
     for topic, message_type in expected.items():
         if topic not in topics:
             held = ", ".join(f"{t} ({i.msg_type})" for t, i in sorted(topics.items())) or "none"
-            raise BagError(f"{path}: no topic {topic}; the bag has: {held}")
+            advice = ("" if config.clouds_only or topic != config.detections_topic else
+                      "; for a bag without boxes use --clouds-only")
+            raise BagError(f"{path}: no topic {topic}; the bag has: {held}{advice}")
         if topics[topic].msg_type != message_type:
             raise BagError(f"{path}: {topic} carries {topics[topic].msg_type}, "
                            f"expected {message_type}")
-    return topics[config.cloud_topic].message_count + \
-        topics[config.detections_topic].message_count
+    return sum(topics[topic].message_count for topic in expected)
 
 
 def convert(bag_path, folder, config, reporter=None):
@@ -58,17 +66,20 @@ def convert(bag_path, folder, config, reporter=None):
     bag = open_bag(bag_path)
     with bag:
         total = check_topics(bag, bag_path, config)
-        try:
-            cleaner = DetectionCleaner(bag_transforms(bag, bag_path))
-        except READ_ERRORS as error:
-            raise BagError(f"{bag_path}: cannot read its /tf: {error}") from error
-        pairing = Pairing(config.slop, config.queue_size, writer.write, load=StampedRaw.load,
-                          cleaner=cleaner)
+        if config.clouds_only:
+            pairing = CloudsOnly(writer.write_cloud, load=StampedRaw.load)
+        else:
+            try:
+                cleaner = DetectionCleaner(bag_transforms(bag, bag_path))
+            except READ_ERRORS as error:
+                raise BagError(f"{bag_path}: cannot read its /tf: {error}") from error
+            pairing = Pairing(config.slop, config.queue_size, writer.write,
+                              load=StampedRaw.load, cleaner=cleaner)
         done = 0
         try:
             # Messages in the order they were recorded, as `rosbag play` would publish them.
             for topic, (_, raw, _, _, message_class), _ in bag.read_messages(
-                    topics=[config.cloud_topic, config.detections_topic], raw=True):
+                    topics=list(read_topics(config)), raw=True):
                 message = StampedRaw(raw, message_class)
                 if topic == config.cloud_topic:
                     pairing.add_cloud(message)
@@ -100,7 +111,9 @@ def main(argv=None):
         description="Synchronise LiDAR clouds with lgsvl_msgs 3D detections straight from a bag "
                     "(message_filters.ApproximateTimeSynchronizer, as the live node) and write "
                     "OUT/pcd/<stamp>.pcd and OUT/detections_3d/<stamp>.json for every pair with "
-                    "at least one detection. Needs no roscore; the same bag gives the same files.")
+                    "at least one detection; with --clouds-only (a bag without boxes) every "
+                    "cloud, and no detections files. Needs no roscore; the same bag gives the "
+                    "same files.")
     parser.add_argument("--bag", required=True, help="bag to read")
     parser.add_argument("--out", required=True, help="output folder (created; must not hold "
                                                      "results unless --overwrite)")
@@ -110,6 +123,9 @@ def main(argv=None):
     parser.add_argument("--detections-topic", help=f"default: {defaults.detections_topic}")
     parser.add_argument("--slop", type=float, metavar="SECONDS",
                         help=f"most a pair's stamps may differ (default: {defaults.slop})")
+    parser.add_argument("--clouds-only", action="store_true", default=None,
+                        help="the bag has no boxes: write every cloud as pcd/<stamp>.pcd and "
+                             "no detections_3d/ files (the box-free path makes the boxes)")
     parser.add_argument("--queue-size", type=int,
                         help=f"synchroniser queue per topic (default: {defaults.queue_size})")
     parser.add_argument("--overwrite", action="store_true",
@@ -121,7 +137,8 @@ def main(argv=None):
         config = load_yaml_over(defaults, args.config) if args.config else defaults
         overrides = {key: value for key, value in (
             ("cloud_topic", args.cloud_topic), ("detections_topic", args.detections_topic),
-            ("slop", args.slop), ("queue_size", args.queue_size)) if value is not None}
+            ("slop", args.slop), ("queue_size", args.queue_size),
+            ("clouds_only", args.clouds_only)) if value is not None}
         config = dataclasses.replace(config, **overrides).check()
         reporter = None if args.quiet else progress.Reporter("bag to files", unit="messages")
         started = time.monotonic()

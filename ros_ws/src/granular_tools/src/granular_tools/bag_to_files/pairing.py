@@ -17,6 +17,7 @@ class PairingStats:
     detection_messages: int = 0
     pairs_kept: int = 0
     pairs_without_detections: int = 0
+    clouds_written: int = 0  # clouds only: every cloud, with no detections file
     cleaning: str = ""  # what DetectionCleaner skipped or moved, when anything
 
     @property
@@ -24,6 +25,8 @@ class PairingStats:
         return self.clouds - self.pairs_kept - self.pairs_without_detections
 
     def summary(self, slop):
+        if self.detection_messages == 0 and self.pairs_kept == 0 and self.clouds_written:
+            return f"clouds read {self.clouds}, written {self.clouds_written} (clouds only)"
         return (f"clouds read {self.clouds}, detection messages {self.detection_messages}; "
                 f"pairs kept {self.pairs_kept}; dropped: {self.clouds_unpaired} clouds with no "
                 f"detection message within {slop * 1000:.0f} ms, "
@@ -66,6 +69,20 @@ class Pairing:
             return
         self.stats.pairs_kept += 1
         self.on_pair(cloud, detections)
+
+
+class CloudsOnly:
+    """The pairing of a bag without boxes: every cloud goes to `on_cloud` as it comes."""
+
+    def __init__(self, on_cloud, load=None):
+        self.stats = PairingStats()
+        self.on_cloud = on_cloud
+        self.load = load or (lambda message: message)
+
+    def add_cloud(self, cloud):
+        self.stats.clouds += 1
+        self.on_cloud(self.load(cloud))
+        self.stats.clouds_written += 1
 
 
 def allow_without_node():

@@ -5,5 +5,6 @@ setup(**generate_distutils_setup(packages=["granular_tools", "granular_tools.sim
                                            "granular_tools.visualization",
                                            "granular_tools.bag_to_files",
                                            "granular_tools.models",
-                                           "granular_tools.evaluation"],
+                                           "granular_tools.evaluation",
+                                           "granular_tools.labelling"],
                                  package_dir={"": "src"}))

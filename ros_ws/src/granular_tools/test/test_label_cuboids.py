@@ -1,14 +1,17 @@
 """label_cuboids on a frames folder, without rviz: saving and backups, the frames it skips,
 the cuboids it starts from, and the folders it refuses."""
+import argparse
 import json
 import os
 import subprocess
 
 import pytest
 
+import bagmaker
 import hostile
+from bagmaker import CLOUD_TOPIC
 from granular_tools.evaluation.geometry import Cuboid
-from granular_tools.labelling.node import frame_index
+from granular_tools.labelling.node import _prepare_frames, frame_index
 from granular_tools.labelling.session import Session, SessionError
 from granular_tools.output import OutputError
 from test_labelling import document_text
@@ -185,6 +188,15 @@ def test_a_bad_config_is_exit_2_naming_the_key(tmp_path):
     result = hostile.run(hostile.tool("granular_tools", "label_cuboids")
                          + ["--frames", folder, "--config", config])
     hostile.assert_fails_clearly(result, 2, str(config), "classes.Car.size")
+
+
+def test_a_bag_without_boxes_gives_every_cloud_to_label(tmp_path):
+    bag = bagmaker.write(tmp_path / "clouds.bag", [
+        (CLOUD_TOPIC, bagmaker.cloud(0.0)), (CLOUD_TOPIC, bagmaker.cloud(0.1))])
+    frames = tmp_path / "frames"
+    assert _prepare_frames(argparse.Namespace(bag=str(bag), frames=str(frames))) == 0
+    assert len(list((frames / "pcd").iterdir())) == 2
+    assert list((frames / "detections_3d").iterdir()) == []
 
 
 def test_a_frame_is_found_by_index_from_1_or_by_stamp():

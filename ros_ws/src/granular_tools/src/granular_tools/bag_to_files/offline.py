@@ -59,6 +59,12 @@ def check_topics(bag, path, config):
     return sum(topics[topic].message_count for topic in expected)
 
 
+def has_detections(bag_path, config):
+    """Whether the bag at `bag_path` carries config.detections_topic (else: a clouds-only bag)."""
+    with open_bag(bag_path) as bag:
+        return config.detections_topic in bag.get_type_and_topic_info().topics
+
+
 def convert(bag_path, folder, config, reporter=None):
     """Write every kept pair of `bag_path` into `folder` (which must be ready); return stats."""
     allow_without_node()

@@ -11,7 +11,7 @@ import itertools
 import json
 from typing import Optional
 
-from ..evaluation.cuboids import CuboidError, parse_detection
+from ..evaluation.cuboid_matching import CuboidError, parse_detection
 from ..evaluation.geometry import Cuboid
 from .boxes import edited_by_pose, with_face_dragged, drag_distance
 

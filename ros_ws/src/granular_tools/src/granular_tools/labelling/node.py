@@ -17,7 +17,9 @@ from sensor_msgs.msg import PointCloud2
 from std_msgs.msg import String
 
 from ..bag_to_files import offline
+from ..bag_to_files.config import BagToFilesConfig
 from ..bag_to_files.pcd import CloudError, pcd_to_cloud, read_pcd
+from ..bags import BagError
 from ..config_loading import ConfigError
 from ..output import OutputError, run_main
 from ..stages import resolve
@@ -404,7 +406,14 @@ def _prepare_frames(args):
         print(f"{TOOL}: {args.frames} holds frames already: labelling them; {args.bag} is not "
               "converted again", file=sys.stderr)
         return 0
-    return offline.main(["--bag", args.bag, "--out", args.frames])
+    # A bag without boxes (a real sensor's) gives every cloud, to be labelled from scratch.
+    try:
+        clouds_only = not offline.has_detections(args.bag, BagToFilesConfig())
+    except BagError as error:
+        print(f"{TOOL}: {error}", file=sys.stderr)
+        return 1
+    return offline.main(["--bag", args.bag, "--out", args.frames]
+                        + (["--clouds-only"] if clouds_only else []))
 
 
 def serve(session, config, args, start):

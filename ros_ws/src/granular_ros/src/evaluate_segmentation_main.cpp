@@ -1,11 +1,14 @@
 // evaluate_segmentation: the box-free segmentation against ground-truth boxes, over a
 // bag-to-files folder (pcd/<stamp>.pcd with detections_3d/<stamp>.json).
+#include <algorithm>
 #include <iostream>
 #include <optional>
 #include <string>
 
 #include <granular_core/runs/segmentation_run.h>
+#include <granular_core/text.h>
 
+#include "granular_ros/box_free_options.h"
 #include "granular_ros/command_line.h"
 #include "granular_ros/config_file.h"
 #include "granular_ros/tool.h"
@@ -25,21 +28,20 @@ std::string usage() {
          "removed, and the time per cloud. Needs no roscore.\n"
          "\n"
          "options:\n"
-         "  --frames FOLDER        bag-to-files folder\n"
-         "  --config FILE          YAML file like config/segmentation.yaml\n"
-         "  --ground-config FILE   YAML file like config/ground.yaml\n"
+         "  --frames FOLDER        bag-to-files folder\n" +
+         granular_ros::BoxFreeOptions::help("--config") +
          "  --method NAME          objects (ground, range-aware grid, gates; default) or\n"
          "                         occupancy (the paper's grid on the whole cloud)\n"
+         "  --classifier FILE      the Background decision: a train_classifier file trained\n"
+         "                         with Background objects (extract_objects --background);\n"
+         "                         the segments it calls Background are dropped, and the\n"
+         "                         figures are printed again for the rest\n"
          "  --max-distance M       metres between matched centres (default 1)\n"
          "  --min-points N         points a true box must hold to count (default 10)\n"
          "  --field-of-view DEG    count objects and segments within DEG of straight ahead\n"
          "                         only, e.g. 40 for KITTI's camera-labelled frames\n"
          "                         (default 180: all around)\n"
          "  --max-range M          count objects and segments nearer than M metres only\n"
-         "  --sensor-height M      the sensor's height above the road (plane.sensor_height\n"
-         "                         of --ground-config; the simulator's is 2.3)\n"
-         "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
-         "                         (objects.azimuth_step_deg; the simulator's is 1)\n"
          "  --help                 print this help and exit\n"
          "\n"
          "Exit status: 0 done, 1 unreadable input, 2 bad option or configuration.\n"
@@ -54,52 +56,34 @@ std::string usage() {
 
 int main(int argc, char** argv) {
   std::string frames;
-  std::optional<std::string> config_file;
-  std::optional<std::string> ground_config_file;
+  granular_ros::BoxFreeOptions box_free;
   std::optional<std::string> method;
-  std::optional<double> sensor_height;
-  std::optional<double> azimuth_step;
+  std::optional<std::string> classifier_file;
+  std::optional<granular::SupervisedClassifier> classifier;
   granular::SegmentationEvaluationOptions options;
   granular::SegmentationStageConfig config;
   granular::GroundConfig ground;
   granular_ros::Tool tool("evaluate_segmentation", usage);
   tool.options()
       .required("--frames", frames)
-      .value("--config", config_file)
-      .value("--ground-config", ground_config_file)
       .value("--method", method)
+      .value("--classifier", classifier_file)
       .number("--max-distance", options.max_distance)
       .number("--min-points", options.min_points)
       .number("--field-of-view", options.half_field_of_view_deg)
-      .number("--max-range", options.max_range)
-      .custom("--sensor-height",
-              [&](granular_ros::OptionReader& reader) {
-                sensor_height = granular_ros::parseNumber<double>("--sensor-height", reader.value());
-              })
-      .custom("--azimuth-step", [&](granular_ros::OptionReader& reader) {
-        azimuth_step = granular_ros::parseNumber<double>("--azimuth-step", reader.value());
-      });
+      .number("--max-range", options.max_range);
+  box_free.addTo(tool.options(), "--config");
   const auto configure = [&] {
-    config = granular_ros::buildConfig<granular::SegmentationStageConfig>(
-        config_file, [&](granular::SegmentationStageConfig& stage) {
-          if (method) {
-            const auto chosen = granular::config::enumFromName<granular::SegmentationMethod>(*method);
-            if (!chosen) {
-              throw std::invalid_argument("--method: expected objects or occupancy, got '" +
-                                          *method + "'");
-            }
-            stage.method = *chosen;
-          }
-          if (azimuth_step) {
-            stage.objects.azimuth_step_deg = *azimuth_step;
-          }
-        });
-    ground = granular_ros::buildConfig<granular::GroundConfig>(
-        ground_config_file, [&](granular::GroundConfig& chosen) {
-          if (sensor_height) {
-            chosen.plane.sensor_height = *sensor_height;
-          }
-        });
+    config = box_free.segmentation();
+    ground = box_free.ground();
+    if (method) {
+      const auto chosen = granular::config::enumFromName<granular::SegmentationMethod>(*method);
+      if (!chosen) {
+        throw std::invalid_argument("--method: expected objects or occupancy, got '" + *method +
+                                    "'");
+      }
+      config.method = *chosen;
+    }
     if (!(options.max_distance >= 0.0) || !(options.half_field_of_view_deg > 0.0) ||
         !(options.max_range > 0.0)) {
       throw std::invalid_argument(
@@ -107,6 +91,17 @@ int main(int argc, char** argv) {
     }
   };
   return tool.run(argc, argv, configure, [&] {
+    if (classifier_file) {
+      classifier.emplace(granular::SupervisedClassifier::load(*classifier_file));
+      const std::vector<std::string>& labels = classifier->labels();
+      if (std::find(labels.begin(), labels.end(), config.background.label) == labels.end()) {
+        throw std::runtime_error(*classifier_file + ": the classifier knows no class '" +
+                                 config.background.label + "' (it knows " +
+                                 granular::joined(labels) +
+                                 "); train it on objects extracted with --background");
+      }
+      options.classifier = &*classifier;
+    }
     options.progress = tool.progress("segmenting", "clouds");
     granular::evaluateSegmentation(frames, ground, config, options).report(std::cout);
   });

@@ -9,6 +9,7 @@
 
 #include <granular_core/runs/extract_run.h>
 
+#include "granular_ros/box_free_options.h"
 #include "granular_ros/command_line.h"
 #include "granular_ros/config_file.h"
 #include "granular_ros/tool.h"
@@ -48,6 +49,11 @@ std::string usage() {
          "                    (default " + joinValues(defaults.n_thresh) + ")\n"
          "  --boxes FOLDER    take the boxes from FOLDER/<stamp>.json (fit_cuboids' output, for\n"
          "                    a bag without boxes) instead of the frames' detections_3d/\n"
+         "  --background      also extract Background objects for training: every frame is\n"
+         "                    segmented as the box-free path does, and the segments on no\n"
+         "                    true box are written under the label of --segmentation-config's\n"
+         "                    background section (docs/segmentation.md); with:\n" +
+         granular_ros::BoxFreeOptions::help() +
          "  --threshold-folders\n"
          "                    write N<thresh>/ inside --out even for a single threshold\n"
          "  --labels LIST     labels to extract, comma-separated, e.g. Sedan,SUV (default: all)\n"
@@ -78,6 +84,8 @@ struct Options {
   std::optional<std::string> labels;
   std::optional<std::string> padding;
   std::string boxes;
+  bool background = false;
+  granular_ros::BoxFreeOptions box_free;
   bool overwrite = false;
   bool threshold_folders = false;
 };
@@ -125,12 +133,27 @@ int main(int argc, char** argv) {
       .value("--n-thresh", options.n_thresh)
       .value("--labels", options.labels)
       .value("--padding", options.padding)
-      .value("--boxes", options.boxes);
-  return tool.run(argc, argv, [&] { config = buildExtractionConfig(options); }, [&] {
+      .value("--boxes", options.boxes)
+      .flag("--background", options.background);
+  options.box_free.addTo(tool.options());
+  std::optional<granular::BackgroundHarvest> background;
+  const auto configure = [&] {
+    config = buildExtractionConfig(options);
+    if (options.background) {
+      background = granular::BackgroundHarvest{options.box_free.ground(),
+                                                options.box_free.segmentation()};
+    } else if (options.box_free.given()) {
+      throw std::invalid_argument(
+          "--ground-config, --segmentation-config, --sensor-height and --azimuth-step "
+          "go with --background");
+    }
+  };
+  return tool.run(argc, argv, configure, [&] {
     granular::ExtractFolderOptions run;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
     run.threshold_folders = options.threshold_folders;
     run.boxes = options.boxes;
+    run.background = background;
     run.progress = tool.progress("extracting", "frames");
     granular::extractFolder(options.in, options.out, config, run).report(std::cout, std::cerr);
   });

@@ -421,3 +421,17 @@ def test_tall_classes_keep_their_roofs(drive, tmp_path):
         assert band_top >= np.percentile(heights[label], 95), label
     tall = [label for label in document["classes"] if max(heights[label]) > 2.5]
     assert tall, "the drive holds a bus or a truck"
+
+
+def test_a_background_decision_without_a_background_class_names_the_classes(drive):
+    result = run(hostile.tool("granular_ros", "evaluate_segmentation")
+                 + ["--frames", drive / "frames", "--classifier", drive / "knn.yml"])
+    assert_fails_clearly(result, 1, drive / "knn.yml", "no class 'Background'", "Sedan",
+                         "--background")
+
+
+def test_background_harvest_options_without_background_are_refused(drive, tmp_path):
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o",
+                            "--sensor-height", "2.3"])
+    assert_fails_clearly(result, 2, "--sensor-height", "--background")
+    assert not (tmp_path / "o").exists()

@@ -85,6 +85,29 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
   return objectIndexLine(row);
 }
 
+// The segments on no true box of `detections`, appended to them as detections of the
+// background label, numbered by their place among the frame's segments.
+void appendBackground(const Cloud& cloud, const std::vector<Segment>& segments,
+                      const BackgroundConfig& config, std::vector<Detection>& detections) {
+  std::vector<OrientedBox> truth;
+  for (const Detection& detection : detections) {
+    try {
+      truth.emplace_back(detection.centre, detection.orientation, detection.size);
+    } catch (const std::invalid_argument&) {
+      // extractObjects reports the box; it cannot be judged on.
+    }
+  }
+  for (const std::size_t s : backgroundSegments(cloud, segments, truth, config)) {
+    Detection background;
+    background.id = static_cast<std::int64_t>(s);
+    background.label = config.label;
+    background.centre = segments[s].box.centre();
+    background.orientation = segments[s].box.orientation();
+    background.size = segments[s].box.size();
+    detections.push_back(background);
+  }
+}
+
 void linkOrCopy(const fs::path& from, const fs::path& to) {
   std::error_code error;
   fs::create_hard_link(from, to, error);
@@ -199,16 +222,28 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     folders.push_back({threshold, std::move(path), std::move(index)});
   }
 
+  std::optional<FrameSegmenter> segmenter;
+  ExtractionConfig frame_config = config;
+  if (options.background) {
+    segmenter.emplace(options.background->ground, options.background->segmentation);
+    if (!config.labels.empty()) {  // the label filter keeps the harvest
+      frame_config.labels.push_back(options.background->segmentation.background.label);
+    }
+  }
   std::set<std::string> seen_labels;  // of every detection, to name them for a label typo
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
     const fs::path json_file = json_folder / (stamp + ".json");
-    const std::vector<Detection> detections = readDetectionsJson(json_file);
+    std::vector<Detection> detections = readDetectionsJson(json_file);
     for (const Detection& detection : detections) {
       seen_labels.insert(detection.label);
     }
-    const FrameExtraction extraction =
-        extractObjects(readPcd(pcd_folder / (stamp + ".pcd")), detections, config);
+    const Cloud cloud = readPcd(pcd_folder / (stamp + ".pcd"));
+    if (segmenter) {
+      appendBackground(cloud, segmenter->segment(cloud).segments,
+                       options.background->segmentation.background, detections);
+    }
+    const FrameExtraction extraction = extractObjects(cloud, detections, frame_config);
     summary.non_finite_points += extraction.non_finite_points;
     for (const std::string& error : extraction.errors) {
       summary.invalid_detections.push_back(json_file.string() + ": " + error);

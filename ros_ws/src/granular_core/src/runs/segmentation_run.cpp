@@ -32,6 +32,37 @@ double percentile95(std::vector<double> values) {
   return values[rank];
 }
 
+// One frame's figures for a set of segment boxes.
+struct FrameScore {
+  std::size_t visible = 0;
+  std::size_t found = 0;
+  std::size_t footprint = 0;
+  std::size_t segments = 0;
+  std::size_t false_segments = 0;
+};
+
+FrameScore scoreFrame(const std::vector<OrientedBox>& boxes,
+                      const std::vector<OrientedBox>& truth,
+                      const std::vector<OrientedBox>& visible, double max_distance) {
+  FrameScore score;
+  for (const OrientedBox& box : visible) {
+    const Eigen::Isometry3d to_object = box.sensorToObject();
+    score.footprint += std::any_of(boxes.begin(), boxes.end(), [&](const OrientedBox& b) {
+      const Eigen::Vector3d centre = to_object * b.centre();
+      return std::abs(centre.x()) <= box.size().x() / 2 &&
+             std::abs(centre.y()) <= box.size().y() / 2;
+    });
+  }
+  const SegmentationMatch found = matchSegments(boxes, visible, max_distance);
+  score.visible = found.truth;
+  score.found = found.matched_truth;
+  // A segment on a true object too small to count is not a false one.
+  const SegmentationMatch any = matchSegments(boxes, truth, max_distance);
+  score.segments = any.segments;
+  score.false_segments = any.unmatched_segments;
+  return score;
+}
+
 }  // namespace
 
 SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const GroundConfig& ground,
@@ -72,10 +103,20 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
             .count());
     evaluation.points += cloud.size();
 
-    std::vector<OrientedBox> boxes, truth, visible;
+    std::vector<OrientedBox> boxes, kept, truth, visible;
     for (const Segment& segment : segments) {
-      if (counted(segment.box.centre(), options)) {
-        boxes.push_back(segment.box);
+      if (!counted(segment.box.centre(), options)) {
+        continue;
+      }
+      boxes.push_back(segment.box);
+      if (options.classifier) {
+        const Cloud object = cropToObjectFrame(cloud, segment.box, Eigen::Vector3d::Zero());
+        if (options.classifier->predict(options.classifier->features(object)) ==
+            config.background.label) {
+          ++evaluation.called_background;
+          continue;
+        }
+        kept.push_back(segment.box);
       }
     }
     for (const Detection& detection : detections) {
@@ -84,24 +125,23 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
         continue;
       }
       truth.push_back(box);
-      if (cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero()).size() < options.min_points) {
-        continue;
+      if (cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero()).size() >= options.min_points) {
+        visible.push_back(box);
       }
-      visible.push_back(box);
-      const Eigen::Isometry3d to_object = box.sensorToObject();
-      evaluation.footprint += std::any_of(boxes.begin(), boxes.end(), [&](const OrientedBox& b) {
-        const Eigen::Vector3d centre = to_object * b.centre();
-        return std::abs(centre.x()) <= box.size().x() / 2 &&
-               std::abs(centre.y()) <= box.size().y() / 2;
-      });
     }
-    const SegmentationMatch found = matchSegments(boxes, visible, options.max_distance);
-    evaluation.visible += found.truth;
-    evaluation.found += found.matched_truth;
-    // A segment on a true object too small to count is not a false one.
-    const SegmentationMatch any = matchSegments(boxes, truth, options.max_distance);
-    evaluation.segments += any.segments;
-    evaluation.false_segments += any.unmatched_segments;
+    const FrameScore all = scoreFrame(boxes, truth, visible, options.max_distance);
+    evaluation.visible += all.visible;
+    evaluation.found += all.found;
+    evaluation.footprint += all.footprint;
+    evaluation.segments += all.segments;
+    evaluation.false_segments += all.false_segments;
+    if (options.classifier) {
+      const FrameScore after = scoreFrame(kept, truth, visible, options.max_distance);
+      evaluation.found_kept += after.found;
+      evaluation.footprint_kept += after.footprint;
+      evaluation.segments_kept += after.segments;
+      evaluation.false_segments_kept += after.false_segments;
+    }
     ++evaluation.frames;
     if (options.progress) {
       options.progress(evaluation.frames, clouds.size());
@@ -142,6 +182,16 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   std::snprintf(line, sizeof(line), "segments: %zu, matching no object: %zu (%.3f)\n",
                 segments, false_segments, share(false_segments, segments));
   out << line;
+  if (options.classifier) {
+    std::snprintf(line, sizeof(line),
+                  "after the Background decision (%zu segments called Background):\n"
+                  "  recall %zu of %zu (%.3f), footprint %zu (%.3f), segments %zu, matching no "
+                  "object %zu (%.3f)\n",
+                  called_background, found_kept, visible, share(found_kept, visible),
+                  footprint_kept, share(footprint_kept, visible), segments_kept,
+                  false_segments_kept, share(false_segments_kept, segments_kept));
+    out << line;
+  }
   if (!rejected.empty()) {
     out << "removed by the gates:";
     for (const auto& [gate, count] : rejected) {

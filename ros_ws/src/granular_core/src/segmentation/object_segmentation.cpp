@@ -16,6 +16,10 @@
 namespace granular {
 namespace {
 
+// m: the min-area rectangle passes through the extreme points, which rounding would put
+// outside a box drawn on it.
+constexpr double kEdgeAllowance = 0.005;
+
 // A square grid of `side` x `side` cells of edge `size` centred on the sensor; cell
 // row * side + col covers x in [-half + col * size, ...), y likewise with row.
 struct PlaneGrid {
@@ -334,14 +338,16 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       continue;
     }
     std::sort(indices.begin(), indices.end());
-    // From the ground under the segment to its highest point.
+    // From the ground under the segment to its highest point; the footprint and the top grown
+    // by kEdgeAllowance, so that cropping by the box keeps the points on its faces.
     const double floor = min_z - shape.bottom;
+    const double top = max_z + kEdgeAllowance;
     const OrientedBox box(
-        Eigen::Vector3d(footprint.centre.x(), footprint.centre.y(), 0.5 * (floor + max_z)),
+        Eigen::Vector3d(footprint.centre.x(), footprint.centre.y(), 0.5 * (floor + top)),
         Eigen::Quaterniond(Eigen::AngleAxisd(footprint.yaw, Eigen::Vector3d::UnitZ())),
-        Eigen::Vector3d(std::max(footprint.length, config.cell_size),
-                        std::max(footprint.width, config.cell_size),
-                        std::max(max_z - floor, config.cell_size)));
+        Eigen::Vector3d(std::max(footprint.length + 2.0 * kEdgeAllowance, config.cell_size),
+                        std::max(footprint.width + 2.0 * kEdgeAllowance, config.cell_size),
+                        std::max(top - floor, config.cell_size)));
     result.segments.push_back(Segment{box, std::move(indices), cell_counts[id]});
   }
   return result;
@@ -350,6 +356,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
 void validate(const SegmentationStageConfig& config) {
   validate(config.objects);
   validate(config.occupancy);
+  validate(config.background);
 }
 
 FrameSegmenter::FrameSegmenter(const GroundConfig& ground, const SegmentationStageConfig& config)

@@ -1,4 +1,5 @@
 // extractFolder: objects folders from a frames folder.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -11,6 +12,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/runs/extract_run.h"
 #include "support/detections_json.h"
+#include "support/road_scene.h"
 #include "support/temporary_folder.h"
 
 namespace granular {
@@ -127,6 +129,40 @@ TEST_F(ExtractFolderTest, BoxesFromAnotherFolderReplaceTheFramesOwn) {
                                            (boxes / "1586102743000000000.json").string());
   EXPECT_EQ(readPcd(root_ / "objects" / ("unknown-" + stamp_ + "-1.pcd")).size(), 120u);
   EXPECT_EQ(summary.objects.at(10).size(), 1u);
+}
+
+TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
+  // A road with a labelled car 10 m ahead and an unlabelled hedge 8 m to the left.
+  Cloud cloud = testing_support::road();
+  const std::set<std::size_t> car = testing_support::addBox(cloud, {10.0, 0.0}, 0.0,
+                                                            {4.0, 1.8, 1.5});
+  const std::set<std::size_t> hedge = testing_support::addBox(cloud, {0.0, 8.0}, 0.3,
+                                                              {3.0, 1.0, 1.2});
+  const fs::path in = root_ / "frames";
+  const std::string stamp = "1586102742000000000";
+  fs::create_directories(in / "pcd");
+  writePcdBinary(in / "pcd" / (stamp + ".pcd"), cloud);
+  const double bottom = -testing_support::kSensorHeight;
+  write(in / "detections_3d" / (stamp + ".json"),
+        frameJson(detectionJson(7, "Sedan",
+                                R"({"x": 10.0, "y": 0.0, "z": )" + std::to_string(bottom + 0.75) +
+                                    "}",
+                                R"({"x": 4.0, "y": 1.8, "z": 1.5})")));
+  ExtractionConfig config;
+  config.n_thresh = {10};
+  config.labels = {"Sedan"};  // the filter keeps the harvest
+  ExtractFolderOptions options;
+  options.background = BackgroundHarvest{testing_support::roadGround(), {}};
+  const ExtractFolderSummary summary = extractFolder(in, root_ / "objects", config, options);
+  EXPECT_EQ(summary.objects.at(10).at("Sedan"), 1u);
+  EXPECT_EQ(summary.objects.at(10).at("Background"), 1u);
+  EXPECT_EQ(readPcd(root_ / "objects" / ("Sedan-" + stamp + "-1.pcd")).size(), car.size());
+  // The hedge's points, and the road under its segment's box (from the ground up).
+  const Cloud background = readPcd(root_ / "objects" / ("Background-" + stamp + "-1.pcd"));
+  EXPECT_EQ(std::count_if(background.begin(), background.end(),
+                          [](const PointXYZIT& point) { return point.z > 0.1f; }),
+            static_cast<std::ptrdiff_t>(hedge.size()));
+  EXPECT_TRUE(summary.warnings.empty());
 }
 
 TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {

@@ -7,64 +7,21 @@
 #include <gtest/gtest.h>
 
 #include "granular_core/segmentation/object_segmentation.h"
+#include "support/road_scene.h"
 
 namespace granular {
 namespace {
-
-constexpr double kSensorHeight = 1.73;
-
-// Flat road 1.73 m below the sensor out to 40 m, as rings of returns.
-Cloud road() {
-  Cloud cloud;
-  for (double range = 3.0; range < 40.0; range *= 1.03) {
-    for (double azimuth = -M_PI; azimuth < M_PI; azimuth += 0.4 * M_PI / 180.0) {
-      cloud.push_back(PointXYZIT(static_cast<float>(range * std::cos(azimuth)),
-                                 static_cast<float>(range * std::sin(azimuth)),
-                                 static_cast<float>(-kSensorHeight), 0, 0.0));
-    }
-  }
-  return cloud;
-}
-
-// The faces of an upright box standing on the road, sampled every `step` metres; returns
-// the indices of its points.
-std::set<std::size_t> addBox(Cloud& cloud, const Eigen::Vector2d& centre, double yaw,
-                             const Eigen::Vector3d& size, double step = 0.05) {
-  std::set<std::size_t> added;
-  const Eigen::Rotation2Dd rotation(yaw);
-  const auto add = [&](double u, double v, double h) {
-    const Eigen::Vector2d p = centre + rotation * Eigen::Vector2d(u, v);
-    added.insert(cloud.size());
-    cloud.push_back(PointXYZIT(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                               static_cast<float>(-kSensorHeight + h), 0, 0.0));
-  };
-  for (double h = 0.3; h <= size.z() + 1e-9; h += step) {
-    for (double u = -size.x() / 2; u <= size.x() / 2 + 1e-9; u += step) {
-      add(u, -size.y() / 2, h);
-      add(u, size.y() / 2, h);
-    }
-    for (double v = -size.y() / 2 + step; v < size.y() / 2 - 1e-9; v += step) {
-      add(-size.x() / 2, v, h);
-      add(size.x() / 2, v, h);
-    }
-  }
-  return added;
-}
-
-// The ground stage for the test's road: the sensor kSensorHeight above it, seeds all around.
-GroundConfig groundConfiguration() {
-  GroundConfig ground;
-  ground.plane.sensor_height = kSensorHeight;
-  ground.plane.seed_half_fov_deg = 180.0;
-  return ground;
-}
+using testing_support::addBox;
+using testing_support::kSensorHeight;
+using testing_support::road;
+using testing_support::roadGround;
 
 TEST(ObjectSegmentationTest, TwoBoxesThirtyCentimetresApartAreTwoSegments) {
   Cloud cloud = road();
   // Two cars nose to tail 10 m ahead, 0.3 m between them.
   const std::set<std::size_t> first = addBox(cloud, {8.0, 0.0}, 0.0, {4.0, 1.8, 1.5});
   const std::set<std::size_t> second = addBox(cloud, {12.3, 0.0}, 0.0, {4.0, 1.8, 1.5});
-  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
   ASSERT_EQ(result.segments.size(), 2u);
   EXPECT_EQ(std::set<std::size_t>(result.segments[0].indices.begin(),
                                   result.segments[0].indices.end()),
@@ -78,7 +35,7 @@ TEST(ObjectSegmentationTest, AGroundedBoxGetsItsFootprintFromTheRoadToItsTop) {
   Cloud cloud = road();
   const double yaw = 0.4;
   addBox(cloud, {-9.0, 6.0}, yaw, {4.4, 1.8, 1.5});
-  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
   ASSERT_EQ(result.segments.size(), 1u);
   const OrientedBox& box = result.segments[0].box;
   EXPECT_NEAR(box.centre().x(), -9.0, 0.03);
@@ -98,7 +55,7 @@ TEST(ObjectSegmentationTest, WallsPolesAndKerbsAreGatedOutAndCounted) {
   addBox(cloud, {-6.0, -6.0}, 0.0, {9.0, 0.3, 1.2});          // a fence: the wall gate
   addBox(cloud, {6.0, 6.0}, 0.0, {0.25, 0.25, 4.0});          // a pole
   addBox(cloud, {-10.0, 3.0}, 0.0, {3.0, 0.2, 0.4});          // a kerb stone: too low
-  const ObjectSegmentation result = segmentObjects(cloud, groundConfiguration());
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
   ASSERT_EQ(result.segments.size(), 1u);
   EXPECT_NEAR(result.segments[0].box.centre().x(), 10.0, 0.05);
   EXPECT_EQ(result.rejected.at("max_size"), 1u);
@@ -119,9 +76,9 @@ TEST(ObjectSegmentationTest, FarCellsJoinAcrossTheGapsBetweenReturns) {
   }
   ObjectSegmentationConfig config;
   config.azimuth_step_deg = 0.5;
-  ASSERT_EQ(segmentObjects(cloud, groundConfiguration(), config).segments.size(), 1u);
+  ASSERT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 1u);
   config.link_azimuth_steps = 0.0;  // touching cells only: each of the 14 columns alone
-  EXPECT_EQ(segmentObjects(cloud, groundConfiguration(), config).segments.size(), 14u);
+  EXPECT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 14u);
 }
 
 TEST(ObjectSegmentationTest, ValidateNamesTheField) {

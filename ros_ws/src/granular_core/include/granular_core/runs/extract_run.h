@@ -4,14 +4,25 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
 
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/extraction/extraction_config.h"
+#include "granular_core/ground/ground.h"
+#include "granular_core/segmentation/object_segmentation.h"
 
 namespace granular {
+
+/// Background objects for training (extract_objects --background): every frame is segmented
+/// as the box-free path does, and the segments on no true box are extracted with their
+/// segment's box under segmentation.background.label (backgroundSegments).
+struct BackgroundHarvest {
+  GroundConfig ground;
+  SegmentationStageConfig segmentation;
+};
 
 /// How extractFolder runs, apart from the tunables.
 struct ExtractFolderOptions {
@@ -23,6 +34,8 @@ struct ExtractFolderOptions {
   /// A folder of `<stamp>.json` boxes (fit_cuboids' output for a bag without boxes) used
   /// instead of `in/detections_3d/`; empty: the frames' own.
   std::filesystem::path boxes;
+  /// Also extract Background objects; see BackgroundHarvest.
+  std::optional<BackgroundHarvest> background;
   /// Called after each frame with (frames done, frames to do); may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "granular_core/segmentation/object_segmentation.h"
+#include "granular_core/supervised/supervised_classifier.h"
 
 namespace granular {
 
@@ -20,6 +21,10 @@ struct SegmentationEvaluationOptions {
   /// camera's view of camera-labelled data (KITTI's); 180: all around.
   double half_field_of_view_deg = 180.0;
   double max_range = 1e9;      ///< m: only objects and segments nearer than this count
+  /// The Background decision: a classifier (train_classifier's, trained with Background
+  /// objects) whose label for a segment's points drops the segment when it is the segmentation
+  /// config's background.label; null: no decision.
+  const SupervisedClassifier* classifier = nullptr;
   /// Called with (frames done, frames) after each frame; may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };
@@ -33,6 +38,13 @@ struct SegmentationEvaluation {
   std::size_t footprint = 0;       ///< of those, with a segment centre in their footprint
   std::size_t segments = 0;        ///< segments counted (view, range)
   std::size_t false_segments = 0;  ///< of those, matching no true object (of any size)
+  /// With a classifier: the same figures over the segments it did not call Background, and
+  /// how many segments it called Background.
+  std::size_t found_kept = 0;
+  std::size_t footprint_kept = 0;
+  std::size_t segments_kept = 0;
+  std::size_t false_segments_kept = 0;
+  std::size_t called_background = 0;
   std::map<std::string, std::size_t> rejected;  ///< segments each gate removed
   std::vector<double> milliseconds;  ///< per frame: ground, segmentation and boxes
   SegmentationEvaluationOptions options;

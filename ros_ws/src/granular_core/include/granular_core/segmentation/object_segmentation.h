@@ -9,6 +9,7 @@
 #include "granular_core/config/fields.h"
 #include "granular_core/ground/ground.h"
 #include "granular_core/point_types.h"
+#include "granular_core/segmentation/background.h"
 #include "granular_core/segmentation/occupancy_segmentation.h"
 
 namespace granular {
@@ -149,17 +150,20 @@ struct config::EnumNames<SegmentationMethod> {
       {{SegmentationMethod::kObjects, "objects"}, {SegmentationMethod::kOccupancy, "occupancy"}}};
 };
 
-/// config/segmentation.yaml: the method and each method's settings.
+/// config/segmentation.yaml: the method and each method's settings, and what the Background
+/// class is made of.
 struct SegmentationStageConfig {
   SegmentationMethod method = SegmentationMethod::kObjects;
   ObjectSegmentationConfig objects;
   SegmentationConfig occupancy;
+  BackgroundConfig background;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     visit("method", self.method);
     visit("objects", self.objects);
     visit("occupancy", self.occupancy);
+    visit("background", self.background);
   }
 };
 

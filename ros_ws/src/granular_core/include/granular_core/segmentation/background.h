@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "granular_core/config/fields.h"
+#include "granular_core/geometry/oriented_box.h"
+#include "granular_core/point_types.h"
+#include "granular_core/segmentation/occupancy_segmentation.h"
+
+namespace granular {
+
+/// The Background class: segments of a labelled frame that lie on no labelled object (walls,
+/// poles, vegetation, clutter), harvested as training objects so that a classifier can say "not
+/// a vehicle" to the box-free path's segments (docs/segmentation.md measures the decision).
+struct BackgroundConfig {
+  std::string label = "Background";  ///< the class name the objects and the decision use
+  /// m: a true box grown by this much on each side holds the points that are on an object.
+  double margin = 0.3;
+  /// A segment with more than this share of its points on objects is no background.
+  double max_object_share = 0.1;
+  /// deg either side of straight ahead (+x), and m: only segments there are harvested, where
+  /// the labels are complete (KITTI labels the camera's view only: 40).
+  double half_field_of_view_deg = 180.0;
+  double max_range = 80.0;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("label", self.label, text("a class name"));
+    visit("margin", self.margin, nonNegative("m"));
+    visit("max_object_share", self.max_object_share, interval(0, 1, ""));
+    visit("half_field_of_view_deg", self.half_field_of_view_deg, interval(0, 180, "deg"));
+    visit("max_range", self.max_range, positive("m"));
+  }
+};
+
+/// Throws std::invalid_argument naming the field for a value out of range or an empty label.
+void validate(const BackgroundConfig& config);
+
+/// The indices into `segments` of the segments of `cloud` that lie on none of the true boxes
+/// `truth` (BackgroundConfig says how that is judged), within the configured view and range,
+/// in order.
+std::vector<std::size_t> backgroundSegments(const Cloud& cloud,
+                                            const std::vector<Segment>& segments,
+                                            const std::vector<OrientedBox>& truth,
+                                            const BackgroundConfig& config = {});
+
+}  // namespace granular

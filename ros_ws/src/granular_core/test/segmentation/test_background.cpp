@@ -1,0 +1,85 @@
+// The Background class: which segments of a labelled frame lie on no labelled object.
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/segmentation/background.h"
+
+namespace granular {
+namespace {
+
+// A car's true box 10 m ahead: 4 x 2 x 1.5 m, its bottom 1.7 m below the sensor.
+OrientedBox trueCar() {
+  return OrientedBox(Eigen::Vector3d(10.0, 0.0, -0.95), Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(4.0, 2.0, 1.5));
+}
+
+// A segment of `count` points in a row along y starting at (x, y0), 0.1 m apart, 1 m above
+// the road; its box is a unit box around the first point (only the centre matters here).
+Segment row(Cloud& cloud, double x, double y0, int count) {
+  Segment segment{OrientedBox(Eigen::Vector3d(x, y0, -0.7), Eigen::Quaterniond::Identity(),
+                              Eigen::Vector3d::Ones()),
+                  {}, 1};
+  for (int i = 0; i < count; ++i) {
+    segment.indices.push_back(cloud.size());
+    cloud.push_back(PointXYZIT(static_cast<float>(x), static_cast<float>(y0 + 0.1 * i), -0.7f,
+                               0, 0.0));
+  }
+  return segment;
+}
+
+TEST(BackgroundTest, SegmentsOffEveryTrueBoxAreBackgroundAndOnesOnABoxAreNot) {
+  Cloud cloud;
+  const std::vector<Segment> segments = {
+      row(cloud, 10.0, -0.5, 10),  // on the car
+      row(cloud, 20.0, 5.0, 10),   // a wall far from it
+      row(cloud, 9.0, -0.8, 20),   // across the car, y up to 1.1 m
+  };
+  EXPECT_EQ(backgroundSegments(cloud, segments, {trueCar()}), (std::vector<std::size_t>{1}));
+  // With no labels in the frame every segment is background.
+  EXPECT_EQ(backgroundSegments(cloud, segments, {}), (std::vector<std::size_t>{0, 1, 2}));
+}
+
+TEST(BackgroundTest, TheShareOnObjectsDecides) {
+  Cloud cloud;
+  // 20 points from y = 0.85: y <= 1.3 (the car's half width 1 m grown by 0.3 m) holds the
+  // first 5 of them, a quarter.
+  const std::vector<Segment> segments = {row(cloud, 10.0, 0.85, 20)};
+  BackgroundConfig config;
+  EXPECT_TRUE(backgroundSegments(cloud, segments, {trueCar()}, config).empty());
+  config.max_object_share = 0.3;
+  EXPECT_EQ(backgroundSegments(cloud, segments, {trueCar()}, config).size(), 1u);
+  config.max_object_share = 0.1;
+  config.margin = 0.0;  // y <= 1.0: 2 points of 20 on the car, 0.1
+  EXPECT_EQ(backgroundSegments(cloud, segments, {trueCar()}, config).size(), 1u);
+}
+
+TEST(BackgroundTest, OnlyTheLabelledViewAndRangeAreHarvested) {
+  Cloud cloud;
+  const std::vector<Segment> segments = {
+      row(cloud, -15.0, 0.0, 10),  // behind the sensor
+      row(cloud, 15.0, 20.0, 10),  // 53 deg to the left
+      row(cloud, 90.0, 0.0, 10),   // beyond 80 m
+      row(cloud, 30.0, 5.0, 10),   // ahead
+  };
+  BackgroundConfig config;
+  config.half_field_of_view_deg = 40.0;
+  EXPECT_EQ(backgroundSegments(cloud, segments, {}, config), (std::vector<std::size_t>{3}));
+}
+
+TEST(BackgroundTest, ValidateNamesTheField) {
+  BackgroundConfig config;
+  config.label = "";
+  EXPECT_THROW(validate(config), std::invalid_argument);
+  config = BackgroundConfig();
+  config.max_object_share = 1.5;
+  try {
+    validate(config);
+    FAIL() << "a share above 1 was accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("max_object_share"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace granular

@@ -9,6 +9,8 @@ namespace granular {
 namespace {
 
 using nlohmann::json;
+// Written with the keys in the message's order, as bag to files writes them.
+using Ordered = nlohmann::ordered_json;
 
 // Walks a JSON document, keeping the key path for error messages.
 class Reader {
@@ -56,7 +58,8 @@ class Reader {
 
 }  // namespace
 
-std::vector<Detection> readDetectionsJson(const std::filesystem::path& file) {
+std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
+                                          DetectionsHeader* header) {
   std::ifstream stream(file);
   if (!stream) {
     throw std::runtime_error(file.string() + ": cannot open for reading");
@@ -69,6 +72,24 @@ std::vector<Detection> readDetectionsJson(const std::filesystem::path& file) {
   }
 
   const Reader reader(file);
+  if (header != nullptr && document.is_object() && document.contains("header") &&
+      document["header"].is_object()) {
+    // Each part when present: the header is not needed to read the detections.
+    const json& node = document["header"];
+    if (node.contains("stamp")) {
+      const json& stamp = node["stamp"];
+      header->secs = static_cast<std::int64_t>(reader.number(stamp, "header.stamp", "secs"));
+      header->nsecs = static_cast<std::int64_t>(reader.number(stamp, "header.stamp", "nsecs"));
+    }
+    if (node.contains("frame_id")) {
+      const json& frame_id = node["frame_id"];
+      if (!frame_id.is_string()) {
+        reader.fail("header.frame_id",
+                    "expected a string, got " + std::string(frame_id.type_name()));
+      }
+      header->frame_id = frame_id.get<std::string>();
+    }
+  }
   const json& detections = reader.child(document, "", "detections");
   if (!detections.is_array()) {
     reader.fail("detections", "expected an array, got " + std::string(detections.type_name()));
@@ -105,9 +126,51 @@ std::vector<Detection> readDetectionsJson(const std::filesystem::path& file) {
                                                reader.number(orientation, orientation_path, "y"),
                                                reader.number(orientation, orientation_path, "z"));
     detection.size = reader.vector3(bbox, bbox_path, "size");
+    if (node.contains("score")) {
+      detection.score = reader.number(node, path, "score");
+    }
     result.push_back(std::move(detection));
   }
   return result;
+}
+
+std::string detectionsJson(const std::vector<Detection>& detections,
+                           const DetectionsHeader& header) {
+  const auto xyz = [](double x, double y, double z) {
+    Ordered vector = Ordered::object();
+    vector["x"] = x;
+    vector["y"] = y;
+    vector["z"] = z;
+    return vector;
+  };
+  Ordered header_json = Ordered::object();
+  header_json["stamp"] = {{"secs", header.secs}, {"nsecs", header.nsecs}};
+  header_json["frame_id"] = header.frame_id;
+  header_json["seq"] = 0;
+  Ordered array = Ordered::array();
+  for (const Detection& detection : detections) {
+    Ordered orientation =
+        xyz(detection.orientation.x(), detection.orientation.y(), detection.orientation.z());
+    orientation["w"] = detection.orientation.w();
+    Ordered pose = Ordered::object();
+    pose["position"] = xyz(detection.centre.x(), detection.centre.y(), detection.centre.z());
+    pose["orientation"] = orientation;
+    Ordered bbox = Ordered::object();
+    bbox["position"] = pose;
+    bbox["size"] = xyz(detection.size.x(), detection.size.y(), detection.size.z());
+    Ordered entry = Ordered::object();
+    entry["header"] = header_json;
+    entry["id"] = detection.id;
+    entry["label"] = detection.label;
+    entry["score"] = detection.score;
+    entry["bbox"] = bbox;
+    entry["velocity"] = {{"linear", xyz(0, 0, 0)}, {"angular", xyz(0, 0, 0)}};
+    array.push_back(entry);
+  }
+  Ordered document = Ordered::object();
+  document["header"] = header_json;
+  document["detections"] = array;
+  return document.dump() + "\n";
 }
 
 }  // namespace granular

@@ -78,5 +78,43 @@ TEST_F(DetectionsJsonTest, ErrorsNameTheFileAndTheKey) {
   expectErrorMentions(root_ / "absent.json", {"cannot open"});
 }
 
+TEST_F(DetectionsJsonTest, WrittenDetectionsReadBackExactly) {
+  Detection box;
+  box.id = 7;
+  box.label = "Tram_/_Subway";
+  box.centre = {12.345678901234567, -0.1, -1.0 / 3.0};
+  box.orientation = Eigen::Quaterniond(0.9, 0.1, -0.2, 0.3);
+  box.size = {4.5, 1.8, 1.0 / 7.0};
+  box.score = 0.25;
+  const DetectionsHeader header{1586102742, 765440, "velodyne"};
+  const fs::path file = write("written.json", detectionsJson({box, Detection()}, header));
+  DetectionsHeader read_header;
+  const std::vector<Detection> read = readDetectionsJson(file, &read_header);
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[0].id, 7);
+  EXPECT_EQ(read[0].label, "Tram_/_Subway");
+  EXPECT_EQ(read[0].centre, box.centre);
+  EXPECT_EQ(read[0].orientation.coeffs(), box.orientation.coeffs());
+  EXPECT_EQ(read[0].size, box.size);
+  EXPECT_EQ(read[0].score, 0.25);
+  EXPECT_EQ(read[1].score, 1.0);
+  EXPECT_EQ(read_header.secs, 1586102742);
+  EXPECT_EQ(read_header.nsecs, 765440);
+  EXPECT_EQ(read_header.frame_id, "velodyne");
+  // An empty list is a frame without detections.
+  EXPECT_TRUE(readDetectionsJson(write("empty.json", detectionsJson({}, header))).empty());
+}
+
+TEST_F(DetectionsJsonTest, AHeaderIsReadWhereThereIsOne) {
+  DetectionsHeader header{1, 2, "kept"};
+  readDetectionsJson(write("bare.json", R"({"detections": []})"), &header);
+  EXPECT_EQ(header.secs, 1);
+  EXPECT_EQ(header.frame_id, "kept");
+  readDetectionsJson(write("full.json", frameJson("")), &header);
+  EXPECT_EQ(header.secs, 1586102742);
+  EXPECT_EQ(header.nsecs, 765440);
+  EXPECT_EQ(header.frame_id, "velodyne");
+}
+
 }  // namespace
 }  // namespace granular

@@ -20,12 +20,31 @@ struct Detection {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   /// (length, width, height), metres.
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  /// The detector's confidence; 1 when the file has none (ground truth).
+  double score = 1.0;
+};
+
+/// The header of a Detection3DArray: the frame's stamp and the sensor frame's id.
+struct DetectionsHeader {
+  std::int64_t secs = 0;
+  std::int64_t nsecs = 0;
+  std::string frame_id;
 };
 
 /// Reads `detections[]` of a lgsvl_msgs/Detection3DArray written as JSON by the bag-to-files
 /// tool (id, label, bbox.position.position, bbox.position.orientation, bbox.size per detection;
-/// other keys are ignored). Throws std::runtime_error whose message names the file and, for a
-/// missing key or a value of the wrong type, the key's path (e.g. `detections[2].bbox.size.x`).
-std::vector<Detection> readDetectionsJson(const std::filesystem::path& file);
+/// other keys are ignored; `score` is read when present). Throws std::runtime_error whose
+/// message names the file and, for a missing key or a value of the wrong type, the key's path
+/// (e.g. `detections[2].bbox.size.x`). `header`, when given, receives the array's header
+/// (stamp and frame id, each left as it is where the file has none).
+std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
+                                          DetectionsHeader* header = nullptr);
+
+/// `detections` as a lgsvl_msgs/Detection3DArray in the JSON layout bag to files writes (every
+/// field of the message: each detection gets the array's header and zero velocities), so that
+/// every tool that reads a frames folder's detections_3d/ reads it. Numbers are written so that
+/// they read back to the same double.
+std::string detectionsJson(const std::vector<Detection>& detections,
+                           const DetectionsHeader& header);
 
 }  // namespace granular

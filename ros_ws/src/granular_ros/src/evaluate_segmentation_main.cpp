@@ -36,6 +36,12 @@ std::string usage() {
          "                         with Background objects (extract_objects --background);\n"
          "                         the segments it calls Background are dropped, and the\n"
          "                         figures are printed again for the rest\n"
+         "  --save FOLDER          also write what the segmentation saw, per frame:\n"
+         "                         <stamp>.json, the segments as detections (label unknown,\n"
+         "                         or --classifier's), and <stamp>.pcd, x y z with each\n"
+         "                         point's height above the ground and its segment (-1\n"
+         "                         ground, 0 none, k+1 segment k), for render_frame\n"
+         "  --overwrite            replace a --save folder a granular tool wrote\n"
          "  --max-distance M       metres between matched centres (default 1)\n"
          "  --min-points N         points a true box must hold to count (default 10)\n"
          "  --field-of-view DEG    count objects and segments within DEG of straight ahead\n"
@@ -59,6 +65,8 @@ int main(int argc, char** argv) {
   granular_ros::BoxFreeOptions box_free;
   std::optional<std::string> method;
   std::optional<std::string> classifier_file;
+  std::string save;
+  bool overwrite = false;
   std::optional<granular::SupervisedClassifier> classifier;
   granular::SegmentationEvaluationOptions options;
   granular::SegmentationStageConfig config;
@@ -68,6 +76,8 @@ int main(int argc, char** argv) {
       .required("--frames", frames)
       .value("--method", method)
       .value("--classifier", classifier_file)
+      .value("--save", save)
+      .flag("--overwrite", overwrite)
       .number("--max-distance", options.max_distance)
       .number("--min-points", options.min_points)
       .number("--field-of-view", options.half_field_of_view_deg)
@@ -102,6 +112,8 @@ int main(int argc, char** argv) {
       }
       options.classifier = &*classifier;
     }
+    options.save = save;
+    options.save_policy = granular_ros::Tool::outputPolicy(overwrite);
     options.progress = tool.progress("segmenting", "clouds");
     granular::evaluateSegmentation(frames, ground, config, options).report(std::cout);
   });

@@ -3,9 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
+#include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/extraction/extract_objects.h"
@@ -63,6 +69,59 @@ FrameScore scoreFrame(const std::vector<OrientedBox>& boxes,
   return score;
 }
 
+// What evaluateSegmentation --save writes for one frame (see SegmentationEvaluationOptions).
+void saveFrame(const fs::path& folder, const std::string& stem, const Cloud& cloud,
+               const ObjectSegmentation& result, const std::vector<std::string>& labels,
+               DetectionsHeader header) {
+  std::vector<Detection> detections;
+  for (std::size_t s = 0; s < result.segments.size(); ++s) {
+    const OrientedBox& box = result.segments[s].box;
+    Detection detection;
+    detection.id = static_cast<std::int64_t>(s);
+    detection.label = labels[s];
+    detection.centre = box.centre();
+    detection.orientation = box.orientation();
+    detection.size = box.size();
+    detections.push_back(detection);
+  }
+  writeFile(folder / (stem + ".json"), detectionsJson(detections, header), "JSON");
+
+  std::vector<std::int32_t> segment_of(cloud.size(), 0);
+  for (std::size_t i = 0; i < cloud.size() && i < result.ground.ground.size(); ++i) {
+    segment_of[i] = result.ground.ground[i] ? -1 : 0;
+  }
+  for (std::size_t s = 0; s < result.segments.size(); ++s) {
+    for (const std::size_t i : result.segments[s].indices) {
+      segment_of[i] = static_cast<std::int32_t>(s + 1);
+    }
+  }
+  std::string content = binaryPcdHeader("x y z height segment", "4 4 4 4 4", "F F F F I",
+                                        "1 1 1 1 1", cloud.size());
+  constexpr std::size_t kRecord = 5 * 4;
+  std::size_t at = content.size();
+  content.resize(at + cloud.size() * kRecord);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const float height = i < result.ground.heights.size()
+                             ? result.ground.heights[i]
+                             : std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&content[at], cloud[i].data, 3 * sizeof(float));
+    std::memcpy(&content[at + 12], &height, sizeof(float));
+    std::memcpy(&content[at + 16], &segment_of[i], sizeof(std::int32_t));
+    at += kRecord;
+  }
+  writeFile(folder / (stem + ".pcd"), content, "PCD");
+}
+
+// The stamp of a frame named <secs><9-digit nsecs>, for a frame without a detections file.
+DetectionsHeader headerFromName(const std::string& stem) {
+  DetectionsHeader header;
+  if (stem.size() > 9 && stem.find_first_not_of("0123456789") == std::string::npos) {
+    header.secs = std::stoll(stem.substr(0, stem.size() - 9));
+    header.nsecs = std::stoll(stem.substr(stem.size() - 9));
+  }
+  return header;
+}
+
 }  // namespace
 
 SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const GroundConfig& ground,
@@ -85,13 +144,19 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
   }
   std::sort(clouds.begin(), clouds.end());
 
+  std::optional<OutputFolder> saved;
+  if (!options.save.empty()) {
+    saved.emplace(options.save, "evaluate_segmentation", options.save_policy);
+  }
   SegmentationEvaluation evaluation;
   evaluation.options = options;
   for (const fs::path& file : clouds) {
     const Cloud cloud = readPcd(file);
-    const fs::path json = frames / "detections_3d" / (file.stem().string() + ".json");
+    const std::string stem = file.stem().string();
+    const fs::path json = frames / "detections_3d" / (stem + ".json");
+    DetectionsHeader header = headerFromName(stem);
     const std::vector<Detection> detections =
-        fs::exists(json) ? readDetectionsJson(json) : std::vector<Detection>();
+        fs::exists(json) ? readDetectionsJson(json, &header) : std::vector<Detection>();
     const auto start = std::chrono::steady_clock::now();
     ObjectSegmentation result = segmenter.segment(cloud);
     const std::vector<Segment>& segments = result.segments;
@@ -103,21 +168,29 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
             .count());
     evaluation.points += cloud.size();
 
+    std::vector<std::string> labels(segments.size(), "unknown");
     std::vector<OrientedBox> boxes, kept, truth, visible;
-    for (const Segment& segment : segments) {
-      if (!counted(segment.box.centre(), options)) {
+    for (std::size_t s = 0; s < segments.size(); ++s) {
+      const OrientedBox& box = segments[s].box;
+      const bool in_view = counted(box.centre(), options);
+      if (options.classifier && (in_view || saved)) {
+        const Cloud object = cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero());
+        labels[s] = options.classifier->predict(options.classifier->features(object));
+      }
+      if (!in_view) {
         continue;
       }
-      boxes.push_back(segment.box);
+      boxes.push_back(box);
       if (options.classifier) {
-        const Cloud object = cropToObjectFrame(cloud, segment.box, Eigen::Vector3d::Zero());
-        if (options.classifier->predict(options.classifier->features(object)) ==
-            config.background.label) {
+        if (labels[s] == config.background.label) {
           ++evaluation.called_background;
-          continue;
+        } else {
+          kept.push_back(box);
         }
-        kept.push_back(segment.box);
       }
+    }
+    if (saved) {
+      saveFrame(saved->staging(), stem, cloud, result, labels, header);
     }
     for (const Detection& detection : detections) {
       const OrientedBox box(detection.centre, detection.orientation, detection.size);
@@ -146,6 +219,9 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     if (options.progress) {
       options.progress(evaluation.frames, clouds.size());
     }
+  }
+  if (saved) {
+    saved->commit();
   }
   return evaluation;
 }

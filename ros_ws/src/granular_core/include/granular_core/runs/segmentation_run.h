@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "granular_core/dataset/output_folder.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "granular_core/supervised/supervised_classifier.h"
 
@@ -25,6 +26,13 @@ struct SegmentationEvaluationOptions {
   /// objects) whose label for a segment's points drops the segment when it is the segmentation
   /// config's background.label; null: no decision.
   const SupervisedClassifier* classifier = nullptr;
+  /// A folder to write what the segmentation saw into, for pictures and inspection (empty:
+  /// none): per frame `<stamp>.json`, the segments as detections (label `unknown`, or the
+  /// classifier's), and `<stamp>.pcd`, the cloud's x y z with each point's `height` above the
+  /// ground and its `segment` (-1 ground, 0 in no segment, k + 1 in segment k). An
+  /// OutputFolder: built beside itself and put in place when complete.
+  std::filesystem::path save;
+  OutputPolicy save_policy;
   /// Called with (frames done, frames) after each frame; may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
 };

@@ -1,0 +1,211 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "granular_core/config/fields.h"
+#include "granular_core/registration/registration_config.h"
+
+namespace granular {
+
+/// The three criteria of the L-shape search (Zhang et al. 2017, "Efficient L-Shape Fitting for
+/// Vehicle Detection Using Laser Scanners", section III-B), each scoring a rectangle direction
+/// by how the bird's-eye points sit against the rectangle's two nearest edges.
+enum class LShapeCriterion {
+  kArea,       ///< the smallest enclosing rectangle
+  kCloseness,  ///< points close to the two nearest edges (sum of 1 / max(distance, d0))
+  kVariance,   ///< the least variance of the points' distances to their nearest edge
+};
+
+template <>
+struct config::EnumNames<LShapeCriterion> {
+  static constexpr const char* what = "L-shape criterion";
+  static constexpr std::array<std::pair<LShapeCriterion, const char*>, 3> values{
+      {{LShapeCriterion::kArea, "area"},
+       {LShapeCriterion::kCloseness, "closeness"},
+       {LShapeCriterion::kVariance, "variance"}}};
+};
+
+/// The search over rectangle directions theta in [0, 90) degrees: a scan at coarse_step_deg,
+/// then a scan at fine_step_deg within one coarse step either side of the best.
+struct LShapeConfig {
+  LShapeCriterion criterion = LShapeCriterion::kCloseness;
+  double coarse_step_deg = 1.0;  ///< deg, the paper's delta
+  double fine_step_deg = 0.1;    ///< deg
+  double closeness_d0 = 0.01;    ///< m, the paper's d0: nearer points count as this near
+  /// m: bird's-eye points are merged to one per cell of this size before the search, so that a
+  /// face hit by many rings does not outweigh one hit by few (and the search costs what the
+  /// footprint's outline does, not the point count).
+  double cell = 0.05;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("criterion", self.criterion);
+    visit("coarse_step_deg", self.coarse_step_deg, interval(0, 45, "deg", true));
+    visit("fine_step_deg", self.fine_step_deg, interval(0, 45, "deg", true));
+    visit("closeness_d0", self.closeness_d0, positive("m"));
+    visit("cell", self.cell, positive("m"));
+  }
+};
+
+/// A class's typical size, metres: length along its heading, width, height.
+struct SizePrior {
+  double length = 1.0;
+  double width = 1.0;
+  double height = 1.0;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("length", self.length, positive("m"));
+    visit("width", self.width, positive("m"));
+    visit("height", self.height, positive("m"));
+  }
+};
+
+/// The size priors shipped in code (config/cuboids.yaml repeats them): KITTI's mean Car, Van
+/// and Truck, and the simulator's vehicle classes at their meshes' sizes.
+std::map<std::string, SizePrior> defaultSizePriors();
+
+/// Which points of an object the fitters use.
+struct ObjectPointsConfig {
+  /// m above the ground: lower points are the road (and kerbs) under and around the object.
+  double min_height = 0.3;
+  /// m above the ground: higher points (crowns, signs over the road) are no vehicle.
+  double max_height = 4.5;
+  /// Objects with fewer points above the ground get no cuboid.
+  std::size_t min_points = 3;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("min_height", self.min_height, any("m"));
+    visit("max_height", self.max_height, positive("m"));
+    visit("min_points", self.min_points, atLeast(3, "points"));
+  }
+};
+
+/// Geometric fitting: the L-shape rectangle, then a size prior that grows it away from the
+/// sensor.
+struct GeometricFitConfig {
+  /// The priors the fit chooses among, by the object's height (the nearest prior height);
+  /// each must be in `priors`. Empty: the observed rectangle is kept as it is.
+  std::vector<std::string> classes = {"Car", "Van", "Truck"};
+  /// m: a face longer than the prior's width plus this is a side (the length axis).
+  double width_tolerance = 0.4;
+  /// m: an extent below this is a face seen edge on (only one face was seen).
+  double face_depth = 0.5;
+  /// m: objects whose longer observed extent is below this (pedestrians, poles) keep the
+  /// observed rectangle: no prior applies.
+  double min_extent = 1.0;
+  /// Objects with fewer points get the prior's height instead of their highest point's.
+  std::size_t height_points = 10;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("classes", self.classes, text("a class with a prior"));
+    visit("width_tolerance", self.width_tolerance, nonNegative("m"));
+    visit("face_depth", self.face_depth, nonNegative("m"));
+    visit("min_extent", self.min_extent, nonNegative("m"));
+    visit("height_points", self.height_points, nonNegative("points"));
+  }
+};
+
+/// Model-based fitting: each class model registered against the object from the L-shape's
+/// headings, the best pose by the registration classifiers' criteria.
+struct ModelFitConfig {
+  RegistrationMethod method = RegistrationMethod::kIcp;
+  /// The registration's parameters (config/classification.yaml's layout); the defaults here
+  /// pull a model from a hypothesis up to about half a metre off.
+  RegistrationClassifierConfig registration = defaultRegistration();
+  /// m: object points are thinned to one per voxel of this size before registration.
+  double voxel = 0.15;
+  /// Headings tried per model: 2 (the L-shape's length axis, both ways), or 4 (the width axis
+  /// too, both ways).
+  int headings = 4;
+  /// Of all heading and model hypotheses, the ones whose fitness before registration is the
+  /// lowest are registered; the rest are dropped.
+  int registered = 3;
+  /// m^2: score = exp(-fitness / score_scale), 1 for a perfect fit.
+  double score_scale = 0.01;
+
+  static RegistrationClassifierConfig defaultRegistration();
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("method", self.method);
+    visit("registration", self.registration);
+    visit("voxel", self.voxel, positive("m"));
+    visit("headings", self.headings, interval(2, 4));
+    visit("registered", self.registered, atLeast(1));
+    visit("score_scale", self.score_scale, positive("m^2"));
+  }
+};
+
+/// Objects taken from given detection boxes (fit_cuboids --boxes detections): the points in
+/// the box grown by `margin` on every side, then the bird's-eye clusters of those above the
+/// ground (points closer than cluster_gap join) of which more than half lie within the box's
+/// circumscribed circle. The box's heading is not used.
+struct DetectionPointsConfig {
+  double margin = 1.0;        ///< m
+  double cluster_gap = 0.3;   ///< m, bird's-eye
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("margin", self.margin, nonNegative("m"));
+    visit("cluster_gap", self.cluster_gap, positive("m"));
+  }
+};
+
+/// The fitting method.
+enum class CuboidMethod {
+  kGeometric,  ///< L-shape and size priors
+  kModel,      ///< class models registered to the points (needs a models folder)
+  kRectangle,  ///< the baseline: the points' minimum-area rectangle, as segment boxes are
+};
+
+template <>
+struct config::EnumNames<CuboidMethod> {
+  static constexpr const char* what = "cuboid method";
+  static constexpr std::array<std::pair<CuboidMethod, const char*>, 3> values{
+      {{CuboidMethod::kGeometric, "geometric"},
+       {CuboidMethod::kModel, "model"},
+       {CuboidMethod::kRectangle, "rectangle"}}};
+};
+
+/// config/cuboids.yaml: everything cuboid fitting reads.
+struct CuboidConfig {
+  CuboidMethod method = CuboidMethod::kGeometric;
+  ObjectPointsConfig points;
+  DetectionPointsConfig detections;
+  LShapeConfig lshape;
+  std::map<std::string, SizePrior> priors = defaultSizePriors();
+  GeometricFitConfig geometric;
+  ModelFitConfig model;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("method", self.method);
+    visit("points", self.points);
+    visit("detections", self.detections);
+    visit("lshape", self.lshape);
+    visit("priors", self.priors);
+    visit("geometric", self.geometric);
+    visit("model", self.model);
+  }
+};
+
+/// Throws std::invalid_argument naming the field for a value out of range, min_height not
+/// below max_height, a fine step larger than the coarse one, or a geometric class without a
+/// prior.
+void validate(const CuboidConfig& config);
+
+}  // namespace granular

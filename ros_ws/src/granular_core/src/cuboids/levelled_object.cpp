@@ -1,0 +1,89 @@
+#include "levelled_object.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace granular {
+namespace cuboids {
+
+std::optional<LevelledObject> levelObject(const ObjectView& object,
+                                          const ObjectPointsConfig& band) {
+  LevelledObject levelled;
+  double min_height = band.min_height;
+  if (object.ground) {
+    levelled.levelling = object.ground->levelling();
+  } else {
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& point : object.points) {
+      if (point.allFinite()) {
+        lowest = std::min(lowest, point.z());
+      }
+    }
+    if (!std::isfinite(lowest)) {
+      return std::nullopt;
+    }
+    levelled.levelling = Eigen::Translation3d(0.0, 0.0, -lowest);
+    min_height = 0.0;  // the lowest point is the road: everything above it is the object
+  }
+  levelled.points.reserve(object.points.size());
+  levelled.top = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : object.points) {
+    const Eigen::Vector3d q = levelled.levelling * point;
+    if (q.allFinite() && q.z() >= min_height && q.z() <= band.max_height) {
+      levelled.points.push_back(q);
+      levelled.top = std::max(levelled.top, q.z());
+    }
+  }
+  if (levelled.points.size() < band.min_points) {
+    return std::nullopt;
+  }
+  levelled.sensor = (levelled.levelling * object.sensor).head<2>();
+  return levelled;
+}
+
+AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config) {
+  std::vector<Eigen::Vector2d> xy;
+  xy.reserve(object.points.size());
+  for (const Eigen::Vector3d& point : object.points) {
+    xy.push_back(point.head<2>());
+  }
+  AxisRectangle rectangle = fitLShape(thinnedPoints(xy, config.cell), config);
+  // The extremes of every point, not of the cell means.
+  for (const Eigen::Vector2d& point : xy) {
+    const Eigen::Vector2d c = rectangle.coordinates(point);
+    rectangle.min = rectangle.min.cwiseMin(c);
+    rectangle.max = rectangle.max.cwiseMax(c);
+  }
+  return rectangle;
+}
+
+AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d& sensor,
+                                  int length_axis, double length, double width) {
+  const Eigen::Vector2d seen_from = rectangle.coordinates(sensor);
+  for (int axis = 0; axis < 2; ++axis) {
+    const double wanted = axis == length_axis ? length : width;
+    const double low = rectangle.min[axis], high = rectangle.max[axis];
+    if (high - low >= wanted) {
+      continue;
+    }
+    if (std::abs(seen_from[axis] - low) <= std::abs(seen_from[axis] - high)) {
+      rectangle.max[axis] = low + wanted;
+    } else {
+      rectangle.min[axis] = high - wanted;
+    }
+  }
+  return rectangle;
+}
+
+OrientedBox sensorBox(const Eigen::Isometry3d& levelling, const Eigen::Vector2d& centre,
+                      double yaw, const Eigen::Vector3d& size) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(centre.x(), centre.y(), size.z() / 2);
+  const Eigen::Isometry3d in_sensor = levelling.inverse() * pose;
+  return OrientedBox(in_sensor.translation(), Eigen::Quaterniond(in_sensor.linear()), size);
+}
+
+}  // namespace cuboids
+}  // namespace granular

@@ -1,0 +1,46 @@
+// What the geometric and the model-based fitters share: the object in the frame levelled on
+// its ground, its L-shape rectangle, a rectangle grown from the seen corner, and a levelled
+// box back in the sensor frame.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "granular_core/cuboids/cuboid_fitter.h"
+#include "granular_core/cuboids/lshape.h"
+
+namespace granular {
+namespace cuboids {
+
+/// An object in the levelled frame: the ground is z = 0 and its normal z.
+struct LevelledObject {
+  Eigen::Isometry3d levelling = Eigen::Isometry3d::Identity();  ///< sensor frame -> levelled
+  std::vector<Eigen::Vector3d> points;  ///< levelled, within the height band
+  Eigen::Vector2d sensor = Eigen::Vector2d::Zero();  ///< the sensor's x, y, levelled
+  double top = 0.0;                                   ///< m, the highest point's z
+};
+
+/// The object levelled on its ground (ObjectView says which) and its points within the height
+/// band of `config`; nullopt with fewer than config.min_points points.
+std::optional<LevelledObject> levelObject(const ObjectView& object,
+                                          const ObjectPointsConfig& config);
+
+/// The L-shape rectangle of the levelled points seen from above (searched over the points
+/// thinned to one per config.cell, enclosing them all).
+AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config);
+
+/// `rectangle` with its extent along axis `length_axis` (0: u, 1: v) grown to at least `length`
+/// and along the other to at least `width`, each away from the sensor: the end nearer `sensor`
+/// stays.
+AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d& sensor,
+                                  int length_axis, double length, double width);
+
+/// The box standing on the levelled ground (z = 0) centred over `centre` (levelled x, y), its
+/// length axis at `yaw` (rad) about the ground's normal, of `size`, in the sensor frame.
+OrientedBox sensorBox(const Eigen::Isometry3d& levelling, const Eigen::Vector2d& centre,
+                      double yaw, const Eigen::Vector3d& size);
+
+}  // namespace cuboids
+}  // namespace granular

@@ -1,0 +1,214 @@
+// Geometric cuboid fitting: the L-shape rectangle, size priors grown from the seen corner, the
+// ground's tilt.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/cuboids/cuboid_fitter.h"
+#include "support/visible_faces.h"
+
+namespace granular {
+namespace {
+
+using testing_support::moved;
+using testing_support::seenFaces;
+using testing_support::StandingBox;
+
+constexpr double kSensorHeight = 1.73;
+constexpr double kDeg = M_PI / 180.0;
+
+// A road 1.73 m below the sensor, tilted by `roll_deg` about x and `pitch_deg` about y.
+GroundPlane road(double roll_deg = 0.0, double pitch_deg = 0.0) {
+  GroundPlane plane;
+  plane.normal = Eigen::AngleAxisd(pitch_deg * kDeg, Eigen::Vector3d::UnitY()) *
+                 Eigen::AngleAxisd(roll_deg * kDeg, Eigen::Vector3d::UnitX()) *
+                 Eigen::Vector3d::UnitZ();
+  plane.offset = kSensorHeight;
+  return plane;
+}
+
+// One class, Car, of the test box's size.
+CuboidConfig carPrior() {
+  CuboidConfig config;
+  config.priors = {{"Car", {4.5, 1.8, 1.5}}};
+  config.geometric.classes = {"Car"};
+  return config;
+}
+
+// The sensor-frame view of points given in the road's frame.
+ObjectView view(const std::vector<Eigen::Vector3d>& on_road, const GroundPlane& ground) {
+  ObjectView object;
+  object.points = moved(on_road, ground.levelling().inverse());
+  object.ground = ground;
+  return object;
+}
+
+Eigen::Vector3d sensorInRoadFrame(const GroundPlane& ground) {
+  return ground.levelling() * Eigen::Vector3d::Zero();
+}
+
+// Degrees between the box's length axis and `yaw` (road frame), modulo 180.
+double headingError(const OrientedBox& box, const GroundPlane& ground, double yaw) {
+  const Eigen::Vector3d axis =
+      ground.levelling().linear() * (box.orientation() * Eigen::Vector3d::UnitX());
+  const double difference = std::remainder(std::atan2(axis.y(), axis.x()) - yaw, M_PI);
+  return std::abs(difference) / kDeg;
+}
+
+// Metres between the box's centre and the centre of `truth` standing on the road.
+double centreError(const OrientedBox& box, const GroundPlane& ground, const StandingBox& truth) {
+  const Eigen::Vector3d expected = ground.levelling().inverse() *
+                                   Eigen::Vector3d(truth.centre.x(), truth.centre.y(),
+                                                   truth.size.z() / 2);
+  return (box.centre() - expected).norm();
+}
+
+TEST(GeometricFitTest, AnLShapeSeenFromEachOfItsCornersGivesTheBox) {
+  const GroundPlane ground = road();
+  const GeometricCuboidFitter fitter(carPrior());
+  for (int corner = 0; corner < 4; ++corner) {
+    StandingBox car;
+    car.centre = {10.0, 2.0};
+    car.yaw = (33.7 + 90.0 * corner) * kDeg;
+    const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+    const std::optional<FittedCuboid> fitted = fitter.fit(view(seen, ground));
+    ASSERT_TRUE(fitted) << "corner " << corner;
+    EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5) << "corner " << corner;
+    EXPECT_LT(centreError(fitted->box, ground, car), 0.02) << "corner " << corner;
+    EXPECT_NEAR(fitted->box.size().x(), 4.5, 0.02) << "corner " << corner;
+    EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02) << "corner " << corner;
+    EXPECT_NEAR(fitted->box.size().z(), 1.5, 1e-9) << "corner " << corner;
+    EXPECT_EQ(fitted->label, kUnknownLabel);
+    EXPECT_EQ(fitted->points, seen.size());
+  }
+}
+
+TEST(GeometricFitTest, APartlySeenCornerGrowsToThePriorFromTheSeenCorner) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {8.0, 6.0};
+  car.yaw = 0.0;
+  // The rear face and the first 2.5 m of the right side: the rest is hidden.
+  const std::vector<Eigen::Vector3d> seen =
+      seenFaces(car, sensorInRoadFrame(ground), 0.05,
+                [](double u, double, double) { return u <= -2.25 + 2.5 + 1e-9; });
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
+  EXPECT_NEAR(fitted->box.size().x(), 4.5, 1e-9);
+  EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02);
+}
+
+TEST(GeometricFitTest, ARearFaceGrowsAwayFromTheSensorToThePriorLength) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {12.0, 0.0};
+  car.yaw = 2.0 * kDeg;
+  const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  // The rear is at x = 9.75: the box reaches 4.5 m beyond it, not towards the sensor.
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
+  EXPECT_NEAR(fitted->box.size().x(), 4.5, 1e-9);
+  EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02);
+}
+
+TEST(GeometricFitTest, ASideFaceGrowsAwayFromTheSensorToThePriorWidth) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {0.5, -10.0};
+  car.yaw = M_PI;
+  const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
+  EXPECT_NEAR(fitted->box.size().y(), 1.8, 1e-9);
+}
+
+TEST(GeometricFitTest, ADimensionLongerThanThePriorStays) {
+  const GroundPlane ground = road();
+  StandingBox van;
+  van.centre = {9.0, 7.0};
+  van.yaw = 20.0 * kDeg;
+  van.size = {6.0, 2.1, 2.0};
+  const std::vector<Eigen::Vector3d> seen = seenFaces(van, sensorInRoadFrame(ground), 0.05);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().x(), 6.0, 0.02);
+  EXPECT_NEAR(fitted->box.size().y(), 2.1, 0.02);
+  EXPECT_LT(centreError(fitted->box, ground, van), 0.02);
+}
+
+TEST(GeometricFitTest, TheHeightIsThePriorsWhenFewPointsSaySo) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.geometric.height_points = 1000;
+  StandingBox car;
+  car.centre = {12.0, 0.0};
+  car.size = {4.5, 1.8, 1.2};
+  const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.1);
+  ASSERT_LT(seen.size(), 1000u);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().z(), 1.5, 1e-9);
+}
+
+TEST(GeometricFitTest, ATiltedRoadGivesTheBoxItsRollAndPitch) {
+  const GroundPlane ground = road(3.0, -2.0);
+  StandingBox car;
+  car.centre = {9.0, -4.0};
+  car.yaw = 61.3 * kDeg;
+  const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  const Eigen::Vector3d up = fitted->box.orientation() * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(up.dot(ground.normal), 1.0, 1e-12);
+  EXPECT_GT(std::acos(up.z()) / kDeg, 3.0);  // the box leans with the road
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
+}
+
+TEST(GeometricFitTest, SmallObjectsKeepTheSeenRectangle) {
+  const GroundPlane ground = road();
+  StandingBox person;
+  person.centre = {6.0, 1.0};
+  person.size = {0.5, 0.6, 1.7};
+  const std::vector<Eigen::Vector3d> seen = seenFaces(person, sensorInRoadFrame(ground), 0.05);
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_LE(fitted->box.size().x(), 0.6 + 1e-9);
+  EXPECT_LE(fitted->box.size().y(), 0.6 + 1e-9);
+}
+
+TEST(GeometricFitTest, RoadReturnsAndTooFewPointsGiveNoCuboid) {
+  const GroundPlane ground = road();
+  const GeometricCuboidFitter fitter(carPrior());
+  // Road returns only: below points.min_height.
+  EXPECT_FALSE(fitter.fit(view({{5.0, 1.0, 0.1}, {5.2, 1.0, 0.05}, {5.4, 1.1, 0.2}, {5, 0, 0}},
+                               ground)));
+  EXPECT_FALSE(fitter.fit(view({{5.0, 1.0, 1.0}, {5.2, 1.0, 1.0}}, ground)));
+  EXPECT_FALSE(fitter.fit(ObjectView()));
+}
+
+TEST(GeometricFitTest, WithoutAGroundTheBoxStandsOnTheLowestPoint) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {8.0, 6.0};
+  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  ObjectView object = view(seen, ground);
+  object.ground.reset();
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(object);
+  ASSERT_TRUE(fitted);
+  // The lowest points are 0.35 m above the road, at z = 0.35 - 1.73 in the sensor frame.
+  const double bottom = fitted->box.centre().z() - fitted->box.size().z() / 2;
+  EXPECT_NEAR(bottom, 0.35 - kSensorHeight, 1e-9);
+  EXPECT_NEAR(fitted->box.size().z(), 1.5 - 0.35, 1e-9);
+  EXPECT_LT((fitted->box.centre().head<2>() - car.centre).norm(), 0.02);
+}
+
+}  // namespace
+}  // namespace granular

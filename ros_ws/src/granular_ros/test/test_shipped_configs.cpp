@@ -1,9 +1,10 @@
-// The shipped config/supervised.yaml, segmentation.yaml and ground.yaml load, validate, and
+// The shipped config/supervised.yaml, segmentation.yaml, ground.yaml and cuboids.yaml load, validate, and
 // state the defaults (where they differ on purpose, the test says which value and why).
 #include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <granular_core/cuboids/cuboid_config.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <granular_core/supervised/supervised_classifier.h>
 
@@ -66,6 +67,17 @@ TEST(ShippedConfigTest, GroundYamlStatesTheGroundDefaults) {
   ground.lines.sectors = 7;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "ground.yaml", ground));
   EXPECT_TRUE(ground == granular::GroundConfig());
+}
+
+TEST(ShippedConfigTest, CuboidsYamlStatesTheCuboidDefaults) {
+  granular::CuboidConfig cuboids;
+  cuboids.lshape.closeness_d0 = 0.01;
+  cuboids.priors.at("Car").length = 5.0;
+  cuboids.model.registration.icp.max_iterations = 3;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "cuboids.yaml", cuboids));
+  // The file leaves the registration out; the rest it states.
+  cuboids.model.registration = granular::CuboidConfig().model.registration;
+  EXPECT_TRUE(cuboids == granular::CuboidConfig());
 }
 
 using ShippedConfigKeysTest = TemporaryYamlTest;

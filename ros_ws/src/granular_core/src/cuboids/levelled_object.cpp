@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <tuple>
 
 namespace granular {
 namespace cuboids {
@@ -42,13 +44,37 @@ std::optional<LevelledObject> levelObject(const ObjectView& object,
   return levelled;
 }
 
+std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
+                                     const Eigen::Vector2d& sensor, double step_deg) {
+  // (bearing bin, squared range, index), sorted: each bin's first is its nearest point.
+  std::vector<std::tuple<std::int64_t, double, std::size_t>> bins;
+  bins.reserve(points.size());
+  const double step = step_deg * M_PI / 180.0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2d ray = points[i] - sensor;
+    bins.emplace_back(static_cast<std::int64_t>(std::floor(std::atan2(ray.y(), ray.x()) / step)),
+                      ray.squaredNorm(), i);
+  }
+  std::sort(bins.begin(), bins.end());
+  std::vector<Eigen::Vector2d> nearest;
+  for (std::size_t k = 0; k < bins.size(); ++k) {
+    if (k == 0 || std::get<0>(bins[k]) != std::get<0>(bins[k - 1])) {
+      nearest.push_back(points[std::get<2>(bins[k])]);
+    }
+  }
+  return nearest;
+}
+
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config) {
   std::vector<Eigen::Vector2d> xy;
   xy.reserve(object.points.size());
   for (const Eigen::Vector3d& point : object.points) {
     xy.push_back(point.head<2>());
   }
-  AxisRectangle rectangle = fitLShape(thinnedPoints(xy, config.cell), config);
+  AxisRectangle rectangle =
+      fitLShape(config.contour_step_deg > 0.0 ? outline(xy, object.sensor, config.contour_step_deg)
+                                              : thinnedPoints(xy, config.cell),
+                config);
   // The extremes of every point, not of the cell means.
   for (const Eigen::Vector2d& point : xy) {
     const Eigen::Vector2d c = rectangle.coordinates(point);

@@ -27,8 +27,14 @@ struct LevelledObject {
 std::optional<LevelledObject> levelObject(const ObjectView& object,
                                           const ObjectPointsConfig& config);
 
-/// The L-shape rectangle of the levelled points seen from above (searched over the points
-/// thinned to one per config.cell, enclosing them all).
+/// Per bearing bin of `step_deg` seen from `sensor`, the nearest of `points`: the outline a
+/// 2-D scan of them would give.
+std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
+                                     const Eigen::Vector2d& sensor, double step_deg);
+
+/// The L-shape rectangle of the levelled points seen from above, searched over their outline
+/// as the sensor sees it or over the points thinned to one per config.cell (LShapeConfig), and
+/// enclosing them all.
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config);
 
 /// `rectangle` with its extent along axis `length_axis` (0: u, 1: v) grown to at least `length`

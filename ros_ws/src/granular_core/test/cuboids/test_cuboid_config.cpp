@@ -27,7 +27,7 @@ TEST(CuboidConfigTest, TheDefaultsAreValidAndEveryGeometricClassHasAPrior) {
     EXPECT_EQ(config.priors.count(name), 1u) << name;
   }
   EXPECT_EQ(config.lshape.criterion, LShapeCriterion::kCloseness);
-  EXPECT_EQ(config.lshape.closeness_d0, 0.01);
+  EXPECT_EQ(config.lshape.closeness_d0, 0.1);
   EXPECT_EQ(config.priors.at("Car").length, 3.88);
 }
 

@@ -14,9 +14,11 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
+// Exact points: the paper's d0 of 1 cm (the default's 10 cm is for a real sensor's noise).
 LShapeConfig withCriterion(LShapeCriterion criterion) {
   LShapeConfig config;
   config.criterion = criterion;
+  config.closeness_d0 = 0.01;
   return config;
 }
 

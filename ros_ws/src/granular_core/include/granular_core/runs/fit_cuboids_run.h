@@ -1,0 +1,90 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "granular_core/cuboids/cuboid_fitter.h"
+#include "granular_core/dataset/output_folder.h"
+#include "granular_core/segmentation/object_segmentation.h"
+
+namespace granular {
+
+/// Where the objects to fit come from.
+enum class CuboidInputs {
+  kSegments,    ///< the box-free segmentation's segments; the frame's boxes are never read
+  kDetections,  ///< the frame's detection boxes (DetectionPointsConfig), headings unused
+};
+
+template <>
+struct config::EnumNames<CuboidInputs> {
+  static constexpr const char* what = "boxes";
+  static constexpr std::array<std::pair<CuboidInputs, const char*>, 2> values{
+      {{CuboidInputs::kSegments, "segment"}, {CuboidInputs::kDetections, "detections"}}};
+};
+
+/// How fitCuboidsFolder runs, apart from the cuboid config.
+struct FitCuboidsOptions {
+  CuboidInputs boxes = CuboidInputs::kSegments;
+  /// The ground stage (both inputs: its road plane is the ground under the objects);
+  /// config/ground.yaml.
+  GroundConfig ground;
+  /// The segmentation (kSegments); config/segmentation.yaml.
+  SegmentationStageConfig segmentation;
+  /// The class models, for the model-based method.
+  std::vector<LabelledModel> models;
+  /// Threads fitting a frame's objects; 0: every core.
+  int threads = 0;
+  /// Whether an output folder of an earlier run may be replaced (see OutputFolder).
+  OutputPolicy output;
+  /// Called after each frame with (frames done, frames to do); may be empty.
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// What fitCuboidsFolder did.
+struct FitCuboidsSummary {
+  std::string method;  ///< CuboidConfig::method's name
+  CuboidInputs boxes = CuboidInputs::kSegments;
+  std::size_t frames = 0;   ///< frames written
+  std::size_t objects = 0;  ///< segments or valid detections given to the fitter
+  std::size_t fitted = 0;   ///< cuboids written (the others had too few points)
+  std::map<std::string, std::size_t> labels;  ///< cuboids per label
+  /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
+  std::vector<std::string> frames_skipped;
+  std::vector<std::string> invalid_detections;
+  std::vector<std::string> cleared;  ///< what dead runs had left beside the output
+  /// Per object: milliseconds in CuboidFitter::fit (segmentation, ground and the cropping of
+  /// detections not included).
+  std::vector<double> milliseconds;
+  double seconds = 0.0;  ///< wall time of the whole run
+
+  /// Cleared, skipped frames and detections (at most 10 lines each) on `log`; counts, labels
+  /// and the time per object (median, p95, max) on `out`.
+  void report(std::ostream& out, std::ostream& log) const;
+};
+
+/// Fits a cuboid to every object of every frame of the bag-to-files folder `frames`
+/// (pcd/<stamp>.pcd, detections_3d/<stamp>.json) with the fitter config.method names, and
+/// writes `out/<stamp>.json` per frame: a Detection3DArray in the layout of detections_3d/
+/// (detectionsJson), in the sensor frame, the frame's header kept; one detection per cuboid,
+/// its label and score the fitter's, its id the detection's (kDetections) or the segment's
+/// index in the frame (kSegments). A frame's ground is the road plane of the ground stage
+/// (options.ground); the occupancy segmentation has none, and its objects stand on their lowest
+/// point. With kDetections a cloud without its detections file
+/// is skipped and reported, as is a detection whose box is not a box.
+///
+/// `out` is an OutputFolder (locked, built beside, renamed into place when complete). Throws
+/// std::invalid_argument for a bad config or a model-based method without models, and
+/// std::runtime_error naming the folder or file for a missing pcd/ folder, a folder without
+/// clouds, unreadable input, an `out` that may not be replaced, and write failures.
+FitCuboidsSummary fitCuboidsFolder(const std::filesystem::path& frames,
+                                   const std::filesystem::path& out, const CuboidConfig& config,
+                                   const FitCuboidsOptions& options);
+
+}  // namespace granular

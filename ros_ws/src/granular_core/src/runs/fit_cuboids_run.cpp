@@ -1,0 +1,245 @@
+#include "granular_core/runs/fit_cuboids_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <optional>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "granular_core/dataset/atomic_file.h"
+#include "granular_core/dataset/detections.h"
+#include "granular_core/dataset/pcd_io.h"
+#include "granular_core/extraction/extract_objects.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The clouds of pcd/, by stem, in stamp order.
+std::vector<std::string> cloudStamps(const fs::path& frames) {
+  const fs::path pcd = frames / "pcd";
+  if (!fs::is_directory(pcd)) {
+    throw std::runtime_error(pcd.string() + ": no such folder (a bag-to-files folder has pcd/ "
+                                            "and detections_3d/)");
+  }
+  std::vector<std::string> stamps;
+  for (const fs::directory_entry& entry : fs::directory_iterator(pcd)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() == ".pcd" && name[0] != '.') {
+      stamps.push_back(entry.path().stem().string());
+    }
+  }
+  if (stamps.empty()) {
+    throw std::runtime_error(pcd.string() + ": no clouds");
+  }
+  std::sort(stamps.begin(), stamps.end());
+  return stamps;
+}
+
+// A header from a stamp in nanoseconds, as bag to files names its files; zero otherwise.
+DetectionsHeader headerOfStamp(const std::string& stamp) {
+  DetectionsHeader header;
+  if (!stamp.empty() && stamp.size() <= 19 &&
+      std::all_of(stamp.begin(), stamp.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    const long long nanoseconds = std::stoll(stamp);
+    header.secs = nanoseconds / 1000000000LL;
+    header.nsecs = nanoseconds % 1000000000LL;
+  }
+  return header;
+}
+
+std::vector<Eigen::Vector3d> pointsOf(const Cloud& cloud, const std::vector<std::size_t>& indices) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(indices.size());
+  for (const std::size_t i : indices) {
+    points.emplace_back(cloud[i].x, cloud[i].y, cloud[i].z);
+  }
+  return points;
+}
+
+double percentile(std::vector<double> values, int percent) {
+  if (values.empty()) {
+    return 0.0;
+  }
+  const std::size_t rank = (values.size() * static_cast<std::size_t>(percent) + 99) / 100;
+  const std::size_t index = rank == 0 ? 0 : rank - 1;  // nearest rank
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
+                   values.end());
+  return values[index];
+}
+
+void reportList(std::ostream& log, const char* title, const std::vector<std::string>& lines) {
+  constexpr std::size_t kShown = 10;
+  if (lines.empty()) {
+    return;
+  }
+  log << title << " (" << lines.size() << "):\n";
+  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i) {
+    log << "  " << lines[i] << '\n';
+  }
+  if (lines.size() > kShown) {
+    log << "  ... and " << lines.size() - kShown << " more\n";
+  }
+}
+
+// One object for the fitter, and the id its cuboid gets.
+struct Input {
+  std::int64_t id = 0;
+  ObjectView view;
+};
+
+}  // namespace
+
+void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
+  reportList(log, "cleared", cleared);
+  reportList(log, "frames skipped", frames_skipped);
+  reportList(log, "invalid detections skipped", invalid_detections);
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "%s fitting of %s: %zu frames, %zu objects, %zu cuboids, %.2f s\n",
+                method.c_str(), boxes == CuboidInputs::kSegments ? "segments" : "detections",
+                frames, objects, fitted, seconds);
+  out << line;
+  for (const auto& [label, count] : labels) {
+    out << "  " << label << ": " << count << '\n';
+  }
+  std::snprintf(line, sizeof(line), "ms per object: median %.3f, p95 %.3f, max %.3f\n",
+                percentile(milliseconds, 50), percentile(milliseconds, 95),
+                milliseconds.empty() ? 0.0
+                                     : *std::max_element(milliseconds.begin(),
+                                                         milliseconds.end()));
+  out << line;
+}
+
+FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
+                                   const CuboidConfig& config, const FitCuboidsOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(config);
+  validate(options.ground);
+  validate(options.segmentation);
+  const std::unique_ptr<CuboidFitter> fitter = makeCuboidFitter(config, options.models);
+  const std::vector<std::string> stamps = cloudStamps(frames);
+  FitCuboidsSummary summary;
+  summary.method = config::enumName(config.method);
+  summary.boxes = options.boxes;
+  OutputFolder output(out, "fit_cuboids", options.output);
+  summary.cleared = output.cleared();
+  FrameSegmenter segmenter(options.ground, options.segmentation);
+  const bool segment_ground = options.segmentation.method == SegmentationMethod::kObjects;
+
+  for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
+    const std::string& stamp = stamps[frame];
+    const fs::path json = frames / "detections_3d" / (stamp + ".json");
+    const bool has_json = fs::exists(json);
+    if (options.boxes == CuboidInputs::kDetections && !has_json) {
+      summary.frames_skipped.push_back(stamp + ": no detections_3d/" + stamp + ".json");
+      continue;
+    }
+    DetectionsHeader header = headerOfStamp(stamp);
+    const std::vector<Detection> detections =
+        has_json ? readDetectionsJson(json, &header) : std::vector<Detection>();
+    const Cloud cloud = readPcd(frames / "pcd" / (stamp + ".pcd"));
+
+    std::vector<Input> inputs;
+    if (options.boxes == CuboidInputs::kSegments) {
+      const ObjectSegmentation segmentation = segmenter.segment(cloud);
+      for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
+        Input input;
+        input.id = static_cast<std::int64_t>(s);
+        input.view.points = pointsOf(cloud, segmentation.segments[s].indices);
+        if (segment_ground) {
+          input.view.ground = segmentation.ground.plane;
+        }
+        inputs.push_back(std::move(input));
+      }
+    } else {
+      const GroundPlane ground =
+          estimateGroundPlane(cloud, options.ground.plane);
+      const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
+      for (std::size_t d = 0; d < detections.size(); ++d) {
+        const Detection& detection = detections[d];
+        std::optional<OrientedBox> box;
+        try {
+          box.emplace(detection.centre, detection.orientation, detection.size);
+        } catch (const std::invalid_argument& error) {
+          summary.invalid_detections.push_back(json.string() + ": detections[" +
+                                               std::to_string(d) + "] (id " +
+                                               std::to_string(detection.id) + "): " + error.what());
+          continue;
+        }
+        const Eigen::Isometry3d to_sensor = box->sensorToObject().inverse();
+        std::vector<Eigen::Vector3d> grown;
+        for (const PointXYZIT& point : cropToObjectFrame(cloud, *box, margin)) {
+          grown.push_back(to_sensor * Eigen::Vector3d(point.x, point.y, point.z));
+        }
+        Input input;
+        input.id = detection.id;
+        input.view.ground = ground;
+        input.view.points = isolateObject(grown, ground, box->centre(), box->size(), config);
+        inputs.push_back(std::move(input));
+      }
+    }
+
+    // The objects over the threads, each timed alone.
+    std::vector<std::optional<FittedCuboid>> fitted(inputs.size());
+    std::vector<double> milliseconds(inputs.size(), 0.0);
+    std::exception_ptr error;
+    const long count = static_cast<long>(inputs.size());
+    [[maybe_unused]] int threads = 1;
+#ifdef _OPENMP
+    threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+#endif
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (long i = 0; i < count; ++i) {
+      const auto begin = std::chrono::steady_clock::now();
+      try {
+        fitted[static_cast<std::size_t>(i)] = fitter->fit(inputs[static_cast<std::size_t>(i)].view);
+      } catch (...) {
+#pragma omp critical(granular_fit_cuboids_error)
+        error = error ? error : std::current_exception();
+      }
+      milliseconds[static_cast<std::size_t>(i)] =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
+              .count();
+    }
+    if (error) {
+      std::rethrow_exception(error);
+    }
+
+    std::vector<Detection> cuboids;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      ++summary.objects;
+      summary.milliseconds.push_back(milliseconds[i]);
+      if (!fitted[i]) {
+        continue;
+      }
+      Detection cuboid;
+      cuboid.id = inputs[i].id;
+      cuboid.label = fitted[i]->label;
+      cuboid.score = fitted[i]->score;
+      cuboid.centre = fitted[i]->box.centre();
+      cuboid.orientation = fitted[i]->box.orientation();
+      cuboid.size = fitted[i]->box.size();
+      cuboids.push_back(cuboid);
+      ++summary.labels[cuboid.label];
+    }
+    summary.fitted += cuboids.size();
+    writeFile(output.staging() / (stamp + ".json"), detectionsJson(cuboids, header), "JSON");
+    ++summary.frames;
+    if (options.progress) {
+      options.progress(frame + 1, stamps.size());
+    }
+  }
+  output.commit();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace granular

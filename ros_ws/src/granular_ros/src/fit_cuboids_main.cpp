@@ -1,0 +1,143 @@
+// fit_cuboids: the command-line face of granular::fitCuboidsFolder. Fits a cuboid to every
+// segment (or given box) of every frame of a bag-to-files folder and writes them in the layout
+// of its detections_3d/.
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <granular_core/dataset/models_folder.h>
+#include <granular_core/runs/fit_cuboids_run.h>
+#include <pcl/console/print.h>
+
+#include "granular_ros/box_free_options.h"
+#include "granular_ros/command_line.h"
+#include "granular_ros/config_file.h"
+#include "granular_ros/tool.h"
+
+namespace {
+
+std::string usage() {
+  return "usage: fit_cuboids --frames FOLDER --out FOLDER [options]\n"
+         "\n"
+         "Fits a cuboid (label, score, centre, orientation, size) to every object of every\n"
+         "frame of a bag-to-files folder (pcd/<stamp>.pcd, detections_3d/<stamp>.json) and\n"
+         "writes OUT/<stamp>.json per frame in the layout of detections_3d/, in the sensor\n"
+         "frame, so that evaluate_cuboids, extraction and rviz take the cuboids as given\n"
+         "boxes. The objects are the box-free segmentation's segments (--boxes segment; the\n"
+         "frame's own boxes are never read), or the points in each given box grown by\n"
+         "detections.margin on every side (--boxes detections; its heading is not used). The\n"
+         "ground under them is the road plane of the ground stage. Methods: geometric (the\n"
+         "L-shape of the points seen from above, grown to a class's size prior away from the\n"
+         "sensor; label 'unknown', score 1), model (class models registered to the points from\n"
+         "the L-shape's headings; label and score of the best model; needs --models) and\n"
+         "rectangle (the points' minimum-area rectangle, as segment boxes are: the baseline).\n"
+         "docs/cuboids.md describes them and what they measured. Needs no roscore.\n"
+         "\n"
+         "options:\n"
+         "  --frames FOLDER        bag-to-files folder\n"
+         "  --out FOLDER           folder of <stamp>.json to create\n"
+         "  --models FOLDER        class models (<Class>.pcd, as build_models writes them)\n"
+         "  --method NAME          geometric, model or rectangle (default: the config's method)\n"
+         "  --config FILE          YAML file like config/cuboids.yaml\n"
+         "  --boxes WHAT           segment (default) or detections\n"
+         "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
+         "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
+         "                         BoxTruck,SchoolBus for the simulator\n"
+         "  --threads N            threads fitting a frame's objects (default: every core)\n"
+         "  --overwrite            replace --out when a granular tool wrote it (a folder of\n"
+         "                         other files is never replaced)\n"
+         "  --help                 print this help and exit\n"
+         "\n"
+         "the ground (both --boxes) and the segmentation (--boxes segment):\n" +
+         granular_ros::BoxFreeOptions::help() +
+         "\n"
+         "Progress goes to stderr, a summary to stdout: cuboids per label and the time per\n"
+         "object in the fitter (median, p95, max). --out is built beside itself and put in\n"
+         "place when complete; a second run into it is refused meanwhile. Exit status: 0 done,\n"
+         "1 failed (unreadable input, output not writable or holding results without\n"
+         "--overwrite), 2 bad option or configuration, 130/143 interrupted (nothing left half\n"
+         "written).\n"
+         "\n"
+         "configuration keys (--config) and their defaults:\n" +
+         granular_ros::configurationHelp<granular::CuboidConfig>();
+}
+
+struct Options {
+  std::string frames;
+  std::string out;
+  std::optional<std::string> models;
+  std::optional<std::string> method;
+  std::optional<std::string> config_file;
+  std::optional<std::string> boxes;
+  granular_ros::BoxFreeOptions box_free;
+  std::optional<std::string> prior_classes;
+  int threads = 0;
+  bool overwrite = false;
+};
+
+// `name`'s value of enum E, or an error naming the option and the choices.
+template <typename E>
+E parseChoice(const std::string& option, const std::string& name) {
+  const std::optional<E> value = granular::config::enumFromName<E>(name);
+  if (!value) {
+    throw std::invalid_argument(option + ": expected " + granular::config::enumChoices<E>() +
+                                ", got '" + name + "'");
+  }
+  return *value;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  granular::CuboidConfig config;
+  granular::FitCuboidsOptions run;
+  granular_ros::Tool tool("fit_cuboids", usage);
+  tool.options()
+      .flag("--overwrite", options.overwrite)
+      .required("--frames", options.frames)
+      .required("--out", options.out)
+      .value("--models", options.models)
+      .value("--method", options.method)
+      .value("--config", options.config_file)
+      .value("--boxes", options.boxes)
+      .value("--prior-classes", options.prior_classes)
+      .threads("--threads", options.threads);
+  options.box_free.addTo(tool.options());
+  const auto configure = [&] {
+    config = granular_ros::buildConfig<granular::CuboidConfig>(
+        options.config_file, [&](granular::CuboidConfig& cuboids) {
+          if (options.method) {
+            cuboids.method = parseChoice<granular::CuboidMethod>("--method", *options.method);
+          }
+          if (options.prior_classes) {
+            cuboids.geometric.classes =
+                granular_ros::splitList("--prior-classes", *options.prior_classes);
+          }
+        });
+    run.ground = options.box_free.ground();
+    run.segmentation = options.box_free.segmentation();
+    if (options.boxes) {
+      run.boxes = parseChoice<granular::CuboidInputs>("--boxes", *options.boxes);
+    }
+    if (config.method == granular::CuboidMethod::kModel && !options.models) {
+      throw std::invalid_argument("the model method needs --models (or --method geometric)");
+    }
+  };
+  return tool.run(argc, argv, configure, [&] {
+    if (options.models && config.method == granular::CuboidMethod::kModel) {
+      run.models = granular::readClassModels(*options.models);
+    } else if (options.models) {
+      std::cerr << "fit_cuboids: warning: --models is not used by the "
+                << granular::config::enumName(config.method) << " method\n";
+    }
+    // PCL prints a line for every registration that finds too few pairs.
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    run.threads = options.threads;
+    run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.progress = tool.progress("fitting", "frames");
+    granular::fitCuboidsFolder(options.frames, options.out, config, run)
+        .report(std::cout, std::cerr);
+  });
+}

@@ -1,0 +1,208 @@
+"""run_cuboids: cuboids fitted to a bag's objects, and scored when the bag carries boxes.
+
+OUT/frames   bag to files (a bag without detections gives clouds only)
+OUT/cuboids  fit_cuboids: one <stamp>.json per frame, in detections_3d's layout
+OUT/report   evaluate_cuboids against the bag's own boxes (only when the bag has them)
+
+With boxes segment the bag's boxes are truth only, never input: the objects are the box-free
+segmentation's segments. With boxes detections the fitter starts from the bag's boxes (grown by
+the config's margin, their headings unused). Every argument is checked before the first stage;
+a failing stage stops the run, leaves OUT/FAILED naming it, and its exit status is the runner's.
+"""
+import argparse
+import dataclasses
+import os
+import time
+
+from . import progress
+from .bag_to_files.config import BagToFilesConfig
+from .bag_to_files.offline import convert_into_new_folder, has_detections
+from .bag_to_files.pcd import CloudError
+from .bags import BagError
+from .config_loading import ConfigError, load_yaml_over
+from .output import OutputError, check_output_folder, claimed_folder, run_main
+from .stages import StageError, existing_file, failure_marker, resolve, run_tool
+
+BOXES = ("segment", "detections")
+METHODS = ("geometric", "model", "rectangle")
+
+
+@dataclasses.dataclass
+class CuboidsRun:
+    """One run's arguments, checked (CuboidsRun.checked) before any stage starts."""
+    bag: str
+    out: str
+    boxes: str = "segment"
+    method: str = None          # None: the config's
+    models: str = None
+    config_dir: str = None
+    sensor_height: float = None
+    azimuth_step: float = None
+    prior_classes: str = None
+    max_range: float = None     # the report's truths: within this range (m) ...
+    min_points: int = None      # ... and with at least this many points
+    overwrite: bool = False
+
+    def folder(self, name):
+        return os.path.join(self.out, name)
+
+    def config_file(self, name):
+        path = os.path.join(self.config_dir, name) if self.config_dir else None
+        return path if path and os.path.exists(path) else None
+
+    def checked(self):
+        """Raise StageError("arguments", ...) (exit 2) for anything that would fail later."""
+        def bad(message):
+            return StageError("arguments", message, 2)
+
+        if self.boxes not in BOXES:
+            raise bad(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
+        if self.method is not None and self.method not in METHODS:
+            raise bad(f"method must be one of {', '.join(METHODS)}, got '{self.method}'")
+        if self.method == "model" and not self.models:
+            raise bad("the model method needs models (a models folder pipeline.launch wrote)")
+        if self.models and not os.path.isdir(self.models):
+            raise bad(f"models folder {self.models} not found")
+        if self.config_dir and not os.path.isdir(self.config_dir):
+            raise bad(f"config folder {self.config_dir} not found")
+        existing_file(self.bag, "bag")
+        for name in ("frames", "cuboids", "report"):
+            try:
+                check_output_folder(self.folder(name), self.overwrite)
+            except OutputError as error:
+                raise bad(str(error)) from error
+        return self
+
+
+def frames_stage(run, config, clouds_only):
+    config = dataclasses.replace(config, clouds_only=clouds_only)
+    reporter = progress.Reporter("frames", unit="messages")
+    try:
+        stats = convert_into_new_folder(run.bag, run.folder("frames"), config.check(),
+                                        run.overwrite, reporter)
+    except (BagError, CloudError, OutputError, ConfigError, ValueError) as error:
+        raise StageError("frames", str(error)) from error
+    reporter.finish()
+    print(f"frames: {stats.summary(config.slop)}", flush=True)
+
+
+def cuboids_stage(run):
+    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", run.folder("frames"),
+               "--out", run.folder("cuboids"), "--boxes", run.boxes]
+    for option, value in (("--method", run.method), ("--models", run.models),
+                          ("--config", run.config_file("cuboids.yaml")),
+                          ("--ground-config", run.config_file("ground.yaml")),
+                          ("--segmentation-config", run.config_file("segmentation.yaml")),
+                          ("--sensor-height", run.sensor_height),
+                          ("--azimuth-step", run.azimuth_step),
+                          ("--prior-classes", run.prior_classes)):
+        command += [option, str(value)] if value is not None else []
+    command += ["--overwrite"] if run.overwrite else []
+    run_tool(command, "cuboids (fit_cuboids)")
+
+
+def report_stage(run):
+    command = ["rosrun", "granular_tools", "evaluate_cuboids", "--truth", run.folder("frames"),
+               "--predicted", run.folder("cuboids"), "--out", run.folder("report")]
+    for option, value in (("--max-range", run.max_range), ("--min-points", run.min_points)):
+        command += [option, str(value)] if value is not None else []
+    command += ["--overwrite"] if run.overwrite else []
+    run_tool(command, "report (evaluate_cuboids)")
+
+
+def run(cuboids_run):
+    """Run the stages of a CuboidsRun into its OUT, which is locked meanwhile."""
+    cuboids_run = cuboids_run.checked()
+    config = BagToFilesConfig()
+    config_file = cuboids_run.config_file("bag_to_files.yaml")
+    if config_file:
+        config = load_yaml_over(config, config_file)
+    try:
+        boxed = has_detections(cuboids_run.bag, config)
+    except BagError as error:
+        raise StageError("frames", str(error)) from error
+    if cuboids_run.boxes == "detections" and not boxed:
+        raise StageError("arguments", f"{cuboids_run.bag} has no {config.detections_topic}: "
+                                      "boxes:=detections needs a bag with boxes (boxes:=segment "
+                                      "fits the segments of a clouds-only bag)", 2)
+    with claimed_folder(cuboids_run.out, "run_cuboids") as out:
+        with failure_marker(out):
+            frames_stage(cuboids_run, config, clouds_only=not boxed)
+            cuboids_stage(cuboids_run)
+            if boxed:
+                report_stage(cuboids_run)
+            else:
+                print("run_cuboids: the bag has no boxes, so no report", flush=True)
+
+
+def _optional(kind, text, name):
+    if text in (None, ""):
+        return None
+    try:
+        value = kind(text)
+    except ValueError:
+        raise StageError("arguments", f"{name} '{text}' is not a number", 2) from None
+    if value <= 0:
+        raise StageError("arguments", f"{name} must be positive, got {text}", 2)
+    return value
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="run_cuboids",
+        description="Fit cuboids to the objects of a bag: OUT/frames (bag to PCD + JSON pairs; "
+                    "clouds only when the bag has no detections), OUT/cuboids (fit_cuboids: "
+                    "<stamp>.json per frame in detections_3d's layout), and, when the bag "
+                    "carries boxes, OUT/report (evaluate_cuboids against them). With --boxes "
+                    "segment the bag's boxes are truth only, never input. Every argument is "
+                    "checked before the first stage; a failing stage stops the run, leaves "
+                    "OUT/FAILED naming it and gives its exit status (2: bad arguments; "
+                    "130/143: interrupted).")
+    parser.add_argument("--bag", required=True)
+    parser.add_argument("--out", required=True, help="output folder")
+    parser.add_argument("--boxes", default="segment",
+                        help="segment (the box-free segmentation's segments) or detections "
+                             "(the bag's boxes, grown, headings unused); default %(default)s")
+    parser.add_argument("--method", default="",
+                        help="geometric, model or rectangle (default: the config's)")
+    parser.add_argument("--models", default="", metavar="FOLDER",
+                        help="class models (OUT/models of pipeline.launch) for --method model")
+    parser.add_argument("--config-dir", metavar="FOLDER",
+                        help="folder with bag_to_files.yaml, cuboids.yaml, ground.yaml, "
+                             "segmentation.yaml (default: the tools' built-in defaults)")
+    parser.add_argument("--sensor-height", default="", metavar="M",
+                        help="the sensor's height above the road (KITTI 1.73, simulator 2.3)")
+    parser.add_argument("--azimuth-step", default="", metavar="DEG",
+                        help="the sensor's angle between returns (KITTI 0.176, simulator 1)")
+    parser.add_argument("--prior-classes", default="", metavar="LIST",
+                        help="size priors the geometric fit chooses among, comma-separated")
+    parser.add_argument("--max-range", default="", metavar="M",
+                        help="report: only truths within M metres of the sensor")
+    parser.add_argument("--min-points", default="", metavar="N",
+                        help="report: only truths with at least N points")
+    parser.add_argument("--relative-to", metavar="FOLDER",
+                        help="resolve relative paths against FOLDER (the launch file passes the "
+                             "folder roslaunch was started from; default: the working folder)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace results that granular tools wrote in OUT")
+    args = parser.parse_args(argv)
+    started = time.monotonic()
+
+    def body():
+        cuboids_run = CuboidsRun(
+            bag=resolve(args.bag, args.relative_to), out=resolve(args.out, args.relative_to),
+            boxes=args.boxes, method=args.method or None,
+            models=resolve(args.models or None, args.relative_to),
+            config_dir=resolve(args.config_dir, args.relative_to),
+            sensor_height=_optional(float, args.sensor_height, "sensor_height"),
+            azimuth_step=_optional(float, args.azimuth_step, "azimuth_step"),
+            prior_classes=args.prior_classes or None,
+            max_range=_optional(float, args.max_range, "max_range"),
+            min_points=_optional(int, args.min_points, "min_points"),
+            overwrite=args.overwrite)
+        run(cuboids_run)
+        print(f"run_cuboids: done in {time.monotonic() - started:.1f} s; results in "
+              f"{cuboids_run.out}")
+        return 0
+
+    return run_main("run_cuboids", body, (StageError, OSError, ValueError))

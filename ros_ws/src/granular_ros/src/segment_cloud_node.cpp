@@ -1,11 +1,14 @@
-// segment_cloud: boxes for clouds without detections (config/ground.yaml: the ground, then
-// config/segmentation.yaml: the occupancy grid of Himmelsbach et al., section II). Each cloud on ~input becomes a
-// Detection3DArray on ~output, one box labelled "unknown" per segment, for the online
-// classifier to classify.
+// segment_cloud: boxes for clouds without detections (config/ground.yaml: the ground;
+// config/segmentation.yaml: the segments; config/cuboids.yaml under ~cuboids: a full-vehicle
+// cuboid fitted to each). Each cloud on ~input becomes a Detection3DArray on ~output, one
+// cuboid labelled "unknown" per segment, for the online classifier to classify.
 #include <chrono>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
+#include <granular_core/cuboids/cuboid_fitter.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <ros/ros.h>
@@ -17,16 +20,18 @@
 
 namespace {
 
-// The node's parameters: the ground's under ~ground (config/ground.yaml), the segmentation's
-// (config/segmentation.yaml) and its own.
+// The node's parameters: the ground's under ~ground (config/ground.yaml), the cuboids' under
+// ~cuboids (config/cuboids.yaml), the segmentation's (config/segmentation.yaml) and its own.
 struct SegmentCloudParameters {
   granular::GroundConfig ground;
+  granular::CuboidConfig cuboids;
   granular::SegmentationStageConfig segmentation;
   double report_interval = 10.0;  ///< s between latency lines in the log
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     visit("ground", self.ground);
+    visit("cuboids", self.cuboids);
     granular::SegmentationStageConfig::fields(self.segmentation, visit);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
@@ -36,6 +41,10 @@ void validate(const SegmentCloudParameters& parameters) {
   granular::validate(parameters.ground);
   granular::validate(parameters.segmentation);
   granular::config::validateFields(parameters);
+  if (parameters.cuboids.method == granular::CuboidMethod::kModel) {
+    // The class is the online classifier's job; the node has no models.
+    throw std::invalid_argument("~cuboids/method: the node fits geometric or rectangle cuboids");
+  }
 }
 
 class SegmentCloud {
@@ -45,6 +54,7 @@ class SegmentCloud {
         granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
     config_ = parameters.segmentation;
     segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
+    fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
@@ -54,8 +64,9 @@ class SegmentCloud {
       }
     });
     ROS_INFO_STREAM("segment_cloud: "
-                    << granular::config::enumName(config_.method) << " segmentation on "
-                    << subscriber_.getTopic());
+                    << granular::config::enumName(config_.method) << " segmentation, "
+                    << granular::config::enumName(parameters.cuboids.method)
+                    << " cuboids, on " << subscriber_.getTopic());
   }
 
   ~SegmentCloud() { ROS_INFO_STREAM("segment_cloud: " << latency_.total()); }
@@ -72,10 +83,22 @@ class SegmentCloud {
     }
     lgsvl_msgs::Detection3DArray output;
     output.header = message->header;
-    const std::vector<granular::Segment> segments = segmenter_->segment(cloud).segments;
-    for (std::size_t i = 0; i < segments.size(); ++i) {
-      lgsvl_msgs::Detection3D detection =
-          granular_ros::toMessage(segments[i].box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
+    const granular::ObjectSegmentation segmentation = segmenter_->segment(cloud);
+    for (std::size_t i = 0; i < segmentation.segments.size(); ++i) {
+      const granular::Segment& segment = segmentation.segments[i];
+      granular::ObjectView view;
+      view.points.reserve(segment.indices.size());
+      for (const std::size_t index : segment.indices) {
+        view.points.emplace_back(cloud[index].x, cloud[index].y, cloud[index].z);
+      }
+      if (config_.method == granular::SegmentationMethod::kObjects) {
+        view.ground = segmentation.ground.plane;
+        view.height_cap = config_.objects.max_height;
+      }
+      // A segment too thin for a cuboid keeps its own box.
+      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(view);
+      lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
+          cuboid ? cuboid->box : segment.box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
       detection.header = message->header;
       output.detections.push_back(detection);
     }
@@ -86,6 +109,7 @@ class SegmentCloud {
 
   granular::SegmentationStageConfig config_;
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
+  std::unique_ptr<granular::CuboidFitter> fitter_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;

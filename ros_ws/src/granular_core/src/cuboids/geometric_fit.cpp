@@ -8,8 +8,14 @@
 namespace granular {
 namespace {
 
-// The prior of `classes` whose height is nearest `height`; the first on a tie.
-const SizePrior* nearestPrior(const CuboidConfig& config, double height) {
+// m: a highest point this near the height cap reached it.
+constexpr double kCapReach = 0.1;
+
+// The prior of `classes` whose height is nearest `height`; the first on a tie. With `capped`
+// (the points were cut at `height`), the shortest of those at least `height` high and longer
+// than `length` seen, when there is one.
+const SizePrior* choosePrior(const CuboidConfig& config, double height, bool capped,
+                             double length) {
   const SizePrior* best = nullptr;
   double best_gap = std::numeric_limits<double>::infinity();
   for (const std::string& name : config.geometric.classes) {
@@ -20,18 +26,17 @@ const SizePrior* nearestPrior(const CuboidConfig& config, double height) {
       best = &prior;
     }
   }
-  return best;
-}
-
-// 0 when the rectangle's u axis is the object's length, 1 for v (GeometricCuboidFitter).
-int lengthAxis(const Eigen::Vector2d& extent, const SizePrior* prior,
-               const GeometricFitConfig& config) {
-  const int longer = extent.x() >= extent.y() ? 0 : 1;
-  if (prior == nullptr || extent[longer] > prior->width + config.width_tolerance ||
-      extent[1 - longer] >= config.face_depth) {
-    return longer;
+  if (capped) {
+    for (const std::string& name : config.geometric.classes) {
+      const SizePrior& prior = config.priors.at(name);
+      if (prior.height >= height &&
+          prior.length + config.geometric.width_tolerance >= length &&
+          (best->height < height || prior.length < best->length)) {
+        best = &prior;
+      }
+    }
   }
-  return 1 - longer;
+  return best;
 }
 
 }  // namespace
@@ -48,10 +53,15 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
   }
   AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config_.lshape);
   const Eigen::Vector2d seen = rectangle.extent();
-  const SizePrior* prior = seen.maxCoeff() >= config_.geometric.min_extent
-                               ? nearestPrior(config_, levelled->top)
-                               : nullptr;
-  const int length_axis = lengthAxis(seen, prior, config_.geometric);
+  const bool capped = object.height_cap && levelled->top >= *object.height_cap - kCapReach;
+  const SizePrior* prior =
+      seen.maxCoeff() >= config_.geometric.min_extent
+          ? choosePrior(config_, levelled->top, capped, seen.maxCoeff())
+          : nullptr;
+  const int longer = seen.x() >= seen.y() ? 0 : 1;
+  const int length_axis =
+      prior != nullptr ? cuboids::lengthAxis(seen, prior->width, config_.geometric.width_tolerance)
+                       : longer;
   if (prior != nullptr) {
     rectangle = cuboids::grownFromSeenCorner(rectangle, levelled->sensor, length_axis,
                                              prior->length, prior->width);

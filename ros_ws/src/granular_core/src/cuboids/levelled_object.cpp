@@ -65,6 +65,17 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
   return nearest;
 }
 
+int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance) {
+  const int longer = seen.x() >= seen.y() ? 0 : 1;
+  const double longer_gap = std::abs(seen[longer] - width);
+  const double shorter_gap = std::abs(seen[1 - longer] - width);
+  // Both as wide as the class: a corner of a short object, the longer is the length.
+  if (seen[longer] > width + tolerance || (longer_gap <= tolerance && shorter_gap <= tolerance)) {
+    return longer;
+  }
+  return longer_gap <= shorter_gap ? 1 - longer : longer;
+}
+
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config) {
   std::vector<Eigen::Vector2d> xy;
   xy.reserve(object.points.size());

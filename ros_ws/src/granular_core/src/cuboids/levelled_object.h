@@ -37,6 +37,13 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
 /// enclosing them all.
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config);
 
+/// Which axis of a rectangle of extents `seen` (0: u, 1: v) is the length of an object whose
+/// width is `width`: the longer when it exceeds `width` by more than `tolerance` (it can only
+/// be a side) or when both are within `tolerance` of `width` (a corner of a short object);
+/// otherwise the other axis than the one whose extent is nearer `width` (a face as wide as the
+/// class is its front or rear; a face seen edge on is the side).
+int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance);
+
 /// `rectangle` with its extent along axis `length_axis` (0: u, 1: v) grown to at least `length`
 /// and along the other to at least `width`, each away from the sensor: the end nearer `sensor`
 /// stays.

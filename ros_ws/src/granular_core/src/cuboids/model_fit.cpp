@@ -123,10 +123,8 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
     const Eigen::Vector2d size = model.high - model.low;
     const Eigen::Vector2d middle = (model.low + model.high) / 2;
     // With two headings, the length axis the geometric fit would take with this model's size.
-    const int longer = seen.x() >= seen.y() ? 0 : 1;
-    const bool end_on = seen[longer] <= size.y() + config.geometric.width_tolerance &&
-                        seen[1 - longer] < config.geometric.face_depth;
-    const int geometric_axis = end_on ? 1 - longer : longer;
+    const int geometric_axis =
+        cuboids::lengthAxis(seen, size.y(), config.geometric.width_tolerance);
     for (int axis = 0; axis < 2; ++axis) {
       if (config.model.headings == 2 && axis != geometric_axis) {
         continue;

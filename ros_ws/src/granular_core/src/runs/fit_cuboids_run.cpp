@@ -155,6 +155,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         input.view.points = pointsOf(cloud, segmentation.segments[s].indices);
         if (segment_ground) {
           input.view.ground = segmentation.ground.plane;
+          input.view.height_cap = options.segmentation.objects.max_height;
         }
         inputs.push_back(std::move(input));
       }

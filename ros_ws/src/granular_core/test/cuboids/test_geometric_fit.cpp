@@ -132,6 +132,38 @@ TEST(GeometricFitTest, ASideFaceGrowsAwayFromTheSensorToThePriorWidth) {
   EXPECT_NEAR(fitted->box.size().y(), 1.8, 1e-9);
 }
 
+TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"BoxTruck", {7.2, 2.4, 3.3}},
+                   {"SchoolBus", {11.0, 2.5, 3.1}}};
+  config.geometric.classes = {"Car", "BoxTruck", "SchoolBus"};
+  StandingBox truck;
+  truck.centre = {12.0, 3.0};
+  truck.yaw = 5.0 * kDeg;
+  truck.size = {7.2, 2.4, 3.3};
+  // The rear and the first 1.6 m of the side, cut 3 m above the road as the segmentation does.
+  const std::vector<Eigen::Vector3d> seen =
+      seenFaces(truck, sensorInRoadFrame(ground), 0.05, [](double u, double, double h) {
+        return u <= -3.6 + 1.6 + 1e-9 && h <= 3.0;
+      });
+  ObjectView object = view(seen, ground);
+  // Without the cap, the 3 m top is nearest the bus's height.
+  const std::optional<FittedCuboid> uncapped = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(uncapped);
+  EXPECT_NEAR(uncapped->box.size().x(), 11.0, 1e-9);
+  object.height_cap = 3.0;
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(fitted);
+  // The 2.4 m rear is the width, though longer than the 1.6 m of side seen.
+  EXPECT_LT(headingError(fitted->box, ground, truck.yaw), 0.5);
+  EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
+  EXPECT_NEAR(fitted->box.size().y(), 2.4, 0.02);
+  const Eigen::Vector3d expected = ground.levelling().inverse() *
+                                   Eigen::Vector3d(truck.centre.x(), truck.centre.y(), 1.5);
+  EXPECT_LT((fitted->box.centre() - expected).head<2>().norm(), 0.02);
+}
+
 TEST(GeometricFitTest, ADimensionLongerThanThePriorStays) {
   const GroundPlane ground = road();
   StandingBox van;

@@ -108,8 +108,6 @@ struct GeometricFitConfig {
   std::vector<std::string> classes = {"Car", "Van", "Truck"};
   /// m: a face longer than the prior's width plus this is a side (the length axis).
   double width_tolerance = 0.4;
-  /// m: an extent below this is a face seen edge on (only one face was seen).
-  double face_depth = 0.5;
   /// m: objects whose longer observed extent is below this (pedestrians, poles) keep the
   /// observed rectangle: no prior applies.
   double min_extent = 1.0;
@@ -121,7 +119,6 @@ struct GeometricFitConfig {
     using namespace config;
     visit("classes", self.classes, text("a class with a prior"));
     visit("width_tolerance", self.width_tolerance, nonNegative("m"));
-    visit("face_depth", self.face_depth, nonNegative("m"));
     visit("min_extent", self.min_extent, nonNegative("m"));
     visit("height_points", self.height_points, nonNegative("points"));
   }

@@ -24,6 +24,9 @@ struct ObjectView {
   /// The road under the object. Unset: a flat road (normal z) through the object's lowest
   /// point, and every point below max_height above it is kept.
   std::optional<GroundPlane> ground;
+  /// m above the ground: where the points were cut (a segmentation's max_height, against
+  /// overhangs), so that an object reaching it may be taller. Unset: none.
+  std::optional<double> height_cap;
   /// The sensor's position in the sensor frame (the origin, for a frame's own cloud): the
   /// faces turned to it are the ones seen.
   Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
@@ -70,9 +73,11 @@ inline constexpr const char* kUnknownLabel = "unknown";
 /// Geometric fitting. In the frame levelled on the ground (normal = z): the L-shape rectangle
 /// of the points seen from above (fitLShape, over points thinned to one per lshape.cell), then
 /// the size prior of the class in geometric.classes whose height is nearest the object's
-/// highest point. Which rectangle axis is the length: the longer extent when it exceeds the
-/// prior's width by width_tolerance or when both extents are at least face_depth; otherwise
-/// (one face seen edge on, as a car from behind) the shorter. Each extent shorter than the
+/// highest point; when that point is at the object's height_cap (the segmentation cut the
+/// object there), the shortest prior at least that high that is longer than the seen length.
+/// Which rectangle axis is the length: the longer extent when it exceeds the prior's width by
+/// width_tolerance; otherwise the other axis than the one whose extent is nearer the prior's
+/// width (a rear face, or a side seen edge on). Each extent shorter than the
 /// prior's is grown to it away from the sensor: the end of the axis nearer the sensor stays, so
 /// the nearest corner (or face) stays where it was seen. Objects smaller than min_extent keep
 /// the observed rectangle. The box stands on the ground, as high as the highest point (the

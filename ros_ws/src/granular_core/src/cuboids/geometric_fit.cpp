@@ -60,7 +60,8 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
           : nullptr;
   const int longer = seen.x() >= seen.y() ? 0 : 1;
   const int length_axis =
-      prior != nullptr ? cuboids::lengthAxis(seen, prior->width, config_.geometric.width_tolerance)
+      prior != nullptr ? cuboids::lengthAxis(cuboids::bodyExtent(*levelled, rectangle),
+                                             prior->width, config_.geometric.width_tolerance)
                        : longer;
   if (prior != nullptr) {
     rectangle = cuboids::grownFromSeenCorner(rectangle, levelled->sensor, length_axis,

@@ -65,6 +65,19 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
   return nearest;
 }
 
+Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& rectangle) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (const Eigen::Vector3d& point : object.points) {
+    if (point.z() >= object.top / 3) {
+      const Eigen::Vector2d c = rectangle.coordinates(point.head<2>());
+      low = low.cwiseMin(c);
+      high = high.cwiseMax(c);
+    }
+  }
+  return (high.array() >= low.array()).all() ? Eigen::Vector2d(high - low) : rectangle.extent();
+}
+
 int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance) {
   const int longer = seen.x() >= seen.y() ? 0 : 1;
   const double longer_gap = std::abs(seen[longer] - width);

@@ -114,7 +114,7 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
   }
   const std::vector<Eigen::Vector3d> points = thinned(levelled->points, config.model.voxel);
   const AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config.lshape);
-  const Eigen::Vector2d seen = rectangle.extent();
+  const Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
 
   // Every placement, measured where it was placed.
   std::vector<Hypothesis> hypotheses;
@@ -124,7 +124,7 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
     const Eigen::Vector2d middle = (model.low + model.high) / 2;
     // With two headings, the length axis the geometric fit would take with this model's size.
     const int geometric_axis =
-        cuboids::lengthAxis(seen, size.y(), config.geometric.width_tolerance);
+        cuboids::lengthAxis(body, size.y(), config.geometric.width_tolerance);
     for (int axis = 0; axis < 2; ++axis) {
       if (config.model.headings == 2 && axis != geometric_axis) {
         continue;

@@ -164,6 +164,28 @@ TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
   EXPECT_LT((fitted->box.centre() - expected).head<2>().norm(), 0.02);
 }
 
+TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.priors = {{"BoxTruck", {7.2, 2.4, 3.3}}};
+  config.geometric.classes = {"BoxTruck"};
+  StandingBox truck;
+  truck.centre = {14.6, 0.0};
+  truck.size = {7.2, 2.4, 3.3};
+  // Straight ahead: only the rear face, and below the box its wheels, 2 m deep.
+  std::vector<Eigen::Vector3d> seen = seenFaces(truck, sensorInRoadFrame(ground), 0.05);
+  for (double depth = 0.0; depth <= 2.0; depth += 0.1) {
+    for (const double side : {-1.0, 1.0}) {
+      seen.emplace_back(truck.centre.x() - 3.6 + depth, side, 0.45);
+    }
+  }
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_LT(headingError(fitted->box, ground, truck.yaw), 0.5);
+  EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
+  EXPECT_LT(centreError(fitted->box, ground, truck), 0.05);
+}
+
 TEST(GeometricFitTest, ADimensionLongerThanThePriorStays) {
   const GroundPlane ground = road();
   StandingBox van;

@@ -75,9 +75,10 @@ inline constexpr const char* kUnknownLabel = "unknown";
 /// the size prior of the class in geometric.classes whose height is nearest the object's
 /// highest point; when that point is at the object's height_cap (the segmentation cut the
 /// object there), the shortest prior at least that high that is longer than the seen length.
-/// Which rectangle axis is the length: the longer extent when it exceeds the prior's width by
-/// width_tolerance; otherwise the other axis than the one whose extent is nearer the prior's
-/// width (a rear face, or a side seen edge on). Each extent shorter than the
+/// Which rectangle axis is the length, judged on the extents of the object's upper half (its
+/// body, not the wheels seen below it): the longer extent when it exceeds the prior's width by
+/// width_tolerance or both are within width_tolerance of it; otherwise the other axis than the
+/// one whose extent is nearer the prior's width (a rear face, or a side seen edge on). Each extent shorter than the
 /// prior's is grown to it away from the sensor: the end of the axis nearer the sensor stays, so
 /// the nearest corner (or face) stays where it was seen. Objects smaller than min_extent keep
 /// the observed rectangle. The box stands on the ground, as high as the highest point (the

@@ -40,7 +40,8 @@ class CuboidsRun:
     azimuth_step: float = None
     prior_classes: str = None
     max_range: float = None     # the report's truths: within this range (m) ...
-    min_points: int = None      # ... and with at least this many points
+    min_points: int = None      # ... and with at least this many points ...
+    labels: tuple = ()          # ... and these labels (none: every label)
     overwrite: bool = False
 
     def folder(self, name):
@@ -106,6 +107,7 @@ def report_stage(run):
                "--predicted", run.folder("cuboids"), "--out", run.folder("report")]
     for option, value in (("--max-range", run.max_range), ("--min-points", run.min_points)):
         command += [option, str(value)] if value is not None else []
+    command += ["--labels", *run.labels] if run.labels else []
     command += ["--overwrite"] if run.overwrite else []
     run_tool(command, "report (evaluate_cuboids)")
 
@@ -180,6 +182,8 @@ def main(argv=None):
                         help="report: only truths within M metres of the sensor")
     parser.add_argument("--min-points", default="", metavar="N",
                         help="report: only truths with at least N points")
+    parser.add_argument("--labels", default="", metavar="LIST",
+                        help="report: only truths with these labels, comma-separated")
     parser.add_argument("--relative-to", metavar="FOLDER",
                         help="resolve relative paths against FOLDER (the launch file passes the "
                              "folder roslaunch was started from; default: the working folder)")
@@ -199,6 +203,7 @@ def main(argv=None):
             prior_classes=args.prior_classes or None,
             max_range=_optional(float, args.max_range, "max_range"),
             min_points=_optional(int, args.min_points, "min_points"),
+            labels=tuple(label for label in args.labels.split(",") if label),
             overwrite=args.overwrite)
         run(cuboids_run)
         print(f"run_cuboids: done in {time.monotonic() - started:.1f} s; results in "

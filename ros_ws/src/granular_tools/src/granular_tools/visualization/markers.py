@@ -22,8 +22,12 @@ def colour_of(label, alpha=1.0):
     return ColorRGBA(r, g, b, alpha)
 
 
-def detection_markers(message, lifetime, namespace="detections"):
-    """Outline and label markers for every detection; DELETEALL first so stale boxes go."""
+def detection_markers(message, lifetime, namespace="detections", colour=None):
+    """Outline and label markers for every detection, coloured by label or all `colour` (r, g,
+    b in [0, 1]); DELETEALL first so stale boxes go."""
+    def paint(label):
+        return ColorRGBA(*colour, 1.0) if colour else colour_of(label)
+
     markers = MarkerArray()
     markers.markers.append(Marker(header=message.header, ns=namespace, action=Marker.DELETEALL))
     for index, detection in enumerate(message.detections):
@@ -31,7 +35,7 @@ def detection_markers(message, lifetime, namespace="detections"):
         half = (bbox.size.x / 2.0, bbox.size.y / 2.0, bbox.size.z / 2.0)
         outline = Marker(header=message.header, ns=namespace, id=2 * index,
                          type=Marker.LINE_LIST, action=Marker.ADD, pose=bbox.position,
-                         scale=Vector3(0.06, 0.0, 0.0), color=colour_of(detection.label),
+                         scale=Vector3(0.06, 0.0, 0.0), color=paint(detection.label),
                          lifetime=lifetime)
         for a, b in _EDGES:
             for corner in (_CORNERS[a], _CORNERS[b]):
@@ -41,7 +45,7 @@ def detection_markers(message, lifetime, namespace="detections"):
                       type=Marker.TEXT_VIEW_FACING, action=Marker.ADD,
                       pose=Pose(Point(position.x, position.y, position.z + half[2] + 0.5),
                                 Quaternion(0.0, 0.0, 0.0, 1.0)),
-                      scale=Vector3(0.0, 0.0, 0.7), color=colour_of(detection.label),
+                      scale=Vector3(0.0, 0.0, 0.7), color=paint(detection.label),
                       text=f"{detection.label} {detection.id}", lifetime=lifetime)
         markers.markers += [outline, text]
     return markers

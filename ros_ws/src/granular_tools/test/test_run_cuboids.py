@@ -1,13 +1,17 @@
 """run_cuboids (launch/cuboids.launch): a bag to fitted cuboids, scored against the bag's own
 boxes when it has them; a clouds-only bag fitted from its segments; bad arguments refused
-before anything is written."""
+before anything is written. run_pipeline (launch/pipeline.launch) with boxes segment: the
+objects of a clouds-only bag cropped in its fitted cuboids."""
+import csv
 import json
 
+import pytest
 import rosbag
 
 import hostile
 
 RUN_CUBOIDS = hostile.tool("granular_tools", "run_cuboids")
+RUN_PIPELINE = hostile.tool("granular_tools", "run_pipeline")
 SIMULATOR = ["--sensor-height", "2.3", "--azimuth-step", "1",
              "--prior-classes", "Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus"]
 # The report's truths: near enough and seen well enough for a box to be fitted at all.
@@ -42,12 +46,19 @@ def test_segments_are_fitted_without_the_bags_boxes(drive, tmp_path):
     assert paper_criterion(out)["recall"] > 0.7
 
 
-def test_a_clouds_only_bag_gives_cuboids_and_no_report(drive, tmp_path):
+@pytest.fixture
+def clouds_only_bag(drive, tmp_path):
+    """The session's drive without its boxes."""
     bag = tmp_path / "clouds.bag"
     with rosbag.Bag(str(drive / "drive.bag")) as source, rosbag.Bag(str(bag), "w") as target:
         for topic, message, stamp in source.read_messages():
             if topic != DETECTIONS_TOPIC:
                 target.write(topic, message, stamp)
+    return bag
+
+
+def test_a_clouds_only_bag_gives_cuboids_and_no_report(clouds_only_bag, tmp_path):
+    bag = clouds_only_bag
     out = tmp_path / "run"
     result = hostile.run(RUN_CUBOIDS + ["--bag", bag, "--out", out] + SIMULATOR)
     assert result.status == 0, str(result)
@@ -75,3 +86,26 @@ def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
                              + arguments)
         hostile.assert_fails_clearly(result, 2, message)
         assert not out.exists(), arguments
+
+
+def test_the_pipeline_crops_a_clouds_only_bags_objects_in_its_fitted_cuboids(clouds_only_bag,
+                                                                           tmp_path):
+    out = tmp_path / "run"
+    result = hostile.run(RUN_PIPELINE + ["--bag", clouds_only_bag, "--out", out, "--boxes",
+                                         "segment", "--n-thresh", "10"] + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert not (out / "models").exists()
+    cuboids = {path.stem: json.loads(path.read_text())["detections"]
+               for path in (out / "cuboids").glob("[!.]*.json")}
+    with open(out / "objects" / "N10" / "index.csv", encoding="utf-8") as stream:
+        rows = list(csv.DictReader(stream))
+    assert rows and {row["label"] for row in rows} == {"unknown"}
+    # Every object is one of the fitted cuboids of its frame.
+    for row in rows:
+        assert int(row["detection_id"]) in {box["id"] for box in cuboids[row["stamp"]]}, row
+
+    refused = hostile.run(RUN_PIPELINE + ["--bag", clouds_only_bag, "--out", tmp_path / "again"])
+    hostile.assert_fails_clearly(refused, 1, DETECTIONS_TOPIC, "boxes:=segment")
+    models = hostile.run(RUN_PIPELINE + ["--bag", clouds_only_bag, "--out", tmp_path / "m",
+                                         "--boxes", "segment", "--stages", "frames,objects,models"])
+    hostile.assert_fails_clearly(models, 2, "no class models")

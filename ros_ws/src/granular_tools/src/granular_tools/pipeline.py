@@ -1,8 +1,12 @@
 """run_pipeline: the pipeline's stages in order, each writing one sub-folder of OUT.
 
-OUT/frames   bag to files (PCD + JSON pairs)
-OUT/objects  per-object clouds in their own frame, one folder N<thresh> per threshold
-OUT/models   one filtered model cloud per class (from OUT/objects/N<models-from>), with pictures
+OUT/frames   bag to files (PCD + JSON pairs; clouds only for a bag without detections)
+OUT/cuboids  with boxes "segment": fit_cuboids' cuboids of the box-free segments, labelled
+             unknown (the bag's own boxes are never used)
+OUT/objects  per-object clouds in their own frame, one folder N<thresh> per threshold, cropped
+             in the bag's boxes or (boxes "segment") in the fitted cuboids
+OUT/models   one filtered model cloud per class (from OUT/objects/N<models-from>), with pictures;
+             not with boxes "segment", whose objects have no class yet
 
 Every argument is checked before the first stage runs; a failing stage stops the run, leaves
 OUT/FAILED naming it, and its exit status is the runner's.
@@ -14,7 +18,7 @@ import time
 
 from . import progress
 from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.offline import convert_into_new_folder
+from .bag_to_files.offline import convert_into_new_folder, has_detections
 from .bag_to_files.pcd import CloudError
 from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
@@ -24,6 +28,7 @@ from .stages import StageError, existing_file, failure_marker, resolve, run_tool
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
+BOXES = ("detections", "segment")
 
 
 @dataclasses.dataclass
@@ -37,6 +42,10 @@ class PipelineRun:
     model_method: str = "plain"
     config_dir: str = None
     overwrite: bool = False
+    boxes: str = "detections"
+    sensor_height: float = None  # boxes "segment": the sensor above the road (m) ...
+    azimuth_step: float = None   # ... and its angle between returns (deg)
+    prior_classes: str = None    # ... and the cuboids' size priors
 
     @property
     def objects_folder(self):
@@ -64,15 +73,23 @@ class PipelineRun:
         if "models" in self.stages and self.models_from not in self.thresholds:
             raise bad(f"models_from {self.models_from} is not one of n_thresh "
                       f"{','.join(map(str, self.thresholds))}")
+        if self.boxes not in BOXES:
+            raise bad(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
+        if self.boxes == "segment" and "models" in self.stages:
+            raise bad("boxes:=segment gives objects labelled unknown, of which no class models "
+                      "can be built: run the stages frames,objects (stages:=frames,objects), "
+                      "then classify the objects with a classifier trained on labelled drives")
         if self.model_method not in ("plain", "icp"):
             raise bad(f"model_method must be plain or icp, got '{self.model_method}'")
         if "frames" in self.stages:
             existing_file(self.bag, "bag")
         if self.config_dir and not os.path.isdir(self.config_dir):
             raise bad(f"config folder {self.config_dir} not found")
-        for stage in self.stages:
+        folders = [STAGE_FOLDERS[stage] for stage in self.stages]
+        folders += ["cuboids"] if self.boxes == "segment" and "objects" in self.stages else []
+        for folder in folders:
             try:
-                check_output_folder(os.path.join(self.out, STAGE_FOLDERS[stage]), self.overwrite)
+                check_output_folder(os.path.join(self.out, folder), self.overwrite)
             except OutputError as error:
                 raise bad(str(error)) from error
         return self
@@ -83,6 +100,14 @@ def frames_stage(run):
     config_file = run.config_file("bag_to_files.yaml")
     if config_file:
         config = load_yaml_over(config, config_file)
+    try:
+        boxed = has_detections(run.bag, config)
+    except BagError as error:
+        raise StageError("frames", str(error)) from error
+    if not boxed and run.boxes != "segment":
+        raise StageError("frames", f"{run.bag} has no {config.detections_topic}: a bag without "
+                                   "boxes runs with boxes:=segment (--boxes segment)")
+    config = dataclasses.replace(config, clouds_only=not boxed)
     reporter = progress.Reporter("frames", unit="messages")
     try:
         stats = convert_into_new_folder(run.bag, os.path.join(run.out, "frames"), config.check(),
@@ -93,13 +118,32 @@ def frames_stage(run):
     print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
+def cuboids_stage(run):
+    """boxes "segment": the frames' boxes are the cuboids fitted to their segments."""
+    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames",
+               os.path.join(run.out, "frames"), "--out", os.path.join(run.out, "cuboids"),
+               "--boxes", "segment"]
+    for option, value in (("--config", run.config_file("cuboids.yaml")),
+                          ("--ground-config", run.config_file("ground.yaml")),
+                          ("--segmentation-config", run.config_file("segmentation.yaml")),
+                          ("--sensor-height", run.sensor_height),
+                          ("--azimuth-step", run.azimuth_step),
+                          ("--prior-classes", run.prior_classes)):
+        command += [option, str(value)] if value is not None else []
+    command += ["--overwrite"] if run.overwrite else []
+    run_tool(command, "cuboids (fit_cuboids)")
+
+
 def objects_stage(run):
+    if run.boxes == "segment":
+        cuboids_stage(run)
     # OUT/objects holds N<thresh>/ whatever thresholds are given, so that it is always one
     # folder extract_objects wrote (and may replace).
     thresholds = ",".join(map(str, run.thresholds))
     command = ["rosrun", "granular_ros", "extract_objects", "--in",
                os.path.join(run.out, "frames"), "--out", run.objects_folder, "--n-thresh",
                thresholds, "--threshold-folders"]
+    command += ["--boxes", os.path.join(run.out, "cuboids")] if run.boxes == "segment" else []
     config_file = run.config_file("extraction.yaml")
     command += ["--config", config_file] if config_file else []
     command += ["--overwrite"] if run.overwrite else []
@@ -141,6 +185,19 @@ def thresholds_from(text):
     return values
 
 
+def _positive(text, name):
+    """A positive number from `text`; None for an empty text; a StageError (exit 2) otherwise."""
+    if not text:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = 0.0
+    if not value > 0:
+        raise StageError("arguments", f"{name} must be a positive number, got '{text}'", 2)
+    return value
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="run_pipeline",
@@ -151,9 +208,10 @@ def main(argv=None):
                     "gives its exit status (2: bad arguments; 130/143: interrupted).")
     parser.add_argument("--bag", required=True)
     parser.add_argument("--out", required=True, help="output folder")
-    parser.add_argument("--stages", default=",".join(STAGES),
-                        help="comma-separated subset of %(default)s (later stages read the "
-                             "earlier ones' folders)")
+    parser.add_argument("--stages",
+                        help=f"comma-separated subset of {','.join(STAGES)} (later stages read "
+                             "the earlier ones' folders; default: all, frames,objects with "
+                             "--boxes segment)")
     parser.add_argument("--n-thresh", default="10,50,100,300,500", metavar="N,N,...",
                         help="minimum points per object, one objects folder each "
                              "(default: %(default)s)")
@@ -169,6 +227,18 @@ def main(argv=None):
     parser.add_argument("--relative-to", metavar="FOLDER",
                         help="resolve relative paths against FOLDER (the launch files pass the "
                              "folder roslaunch was started from; default: the working folder)")
+    parser.add_argument("--boxes", default="detections",
+                        help="detections (the bag's boxes) or segment (cuboids fitted to the "
+                             "box-free segments into OUT/cuboids, for bags without boxes; "
+                             "stages frames,objects only); default %(default)s")
+    parser.add_argument("--sensor-height", default="", metavar="M",
+                        help="--boxes segment: the sensor above the road (default: "
+                             "config/ground.yaml's; the simulator 2.3, KITTI 1.73)")
+    parser.add_argument("--azimuth-step", default="", metavar="DEG",
+                        help="--boxes segment: the angle between returns along a ring "
+                             "(the simulator 1, KITTI 0.176)")
+    parser.add_argument("--prior-classes", default="", metavar="LIST",
+                        help="--boxes segment: the cuboids' size priors, comma-separated")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace results that granular tools wrote in OUT")
     args = parser.parse_args(argv)
@@ -182,10 +252,14 @@ def main(argv=None):
                                           "number", 2) from None
         pipeline_run = PipelineRun(
             bag=resolve(args.bag, args.relative_to), out=resolve(args.out, args.relative_to),
-            stages=tuple(s for s in args.stages.split(",") if s),
+            stages=(tuple(s for s in args.stages.split(",") if s) if args.stages is not None
+                    else STAGES[:2] if args.boxes == "segment" else STAGES),
             thresholds=thresholds_from(args.n_thresh), models_from=models_from,
             model_method=args.model_method,
-            config_dir=resolve(args.config_dir, args.relative_to), overwrite=args.overwrite)
+            config_dir=resolve(args.config_dir, args.relative_to), overwrite=args.overwrite,
+            boxes=args.boxes, sensor_height=_positive(args.sensor_height, "sensor_height"),
+            azimuth_step=_positive(args.azimuth_step, "azimuth_step"),
+            prior_classes=args.prior_classes or None)
         run(pipeline_run)
         print(f"run_pipeline: done in {time.monotonic() - started:.1f} s; results in "
               f"{pipeline_run.out}")

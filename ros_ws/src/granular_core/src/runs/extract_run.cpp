@@ -18,6 +18,7 @@
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/text.h"
+#include "run_helpers.h"
 
 namespace granular {
 namespace {
@@ -116,24 +117,10 @@ void linkOrCopy(const fs::path& from, const fs::path& to) {
   }
 }
 
-// At most kShown lines of `lines` under `title`.
-void reportList(std::ostream& log, const char* title, const std::vector<std::string>& lines) {
-  constexpr std::size_t kShown = 10;
-  if (lines.empty()) {
-    return;
-  }
-  log << title << " (" << lines.size() << "):\n";
-  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i) {
-    log << "  " << lines[i] << '\n';
-  }
-  if (lines.size() > kShown) {
-    log << "  ... and " << lines.size() - kShown << " more\n";
-  }
-}
-
 }  // namespace
 
 void ExtractFolderSummary::report(std::ostream& out, std::ostream& log) const {
+  using runs::reportList;
   reportList(log, "cleared", cleared);
   reportList(log, "warnings", warnings);
   reportList(log, "frames skipped", frames_skipped);

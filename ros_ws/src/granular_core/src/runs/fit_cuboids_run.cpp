@@ -15,32 +15,12 @@
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "run_helpers.h"
 
 namespace granular {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The clouds of pcd/, by stem, in stamp order.
-std::vector<std::string> cloudStamps(const fs::path& frames) {
-  const fs::path pcd = frames / "pcd";
-  if (!fs::is_directory(pcd)) {
-    throw std::runtime_error(pcd.string() + ": no such folder (a bag-to-files folder has pcd/ "
-                                            "and detections_3d/)");
-  }
-  std::vector<std::string> stamps;
-  for (const fs::directory_entry& entry : fs::directory_iterator(pcd)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.path().extension() == ".pcd" && name[0] != '.') {
-      stamps.push_back(entry.path().stem().string());
-    }
-  }
-  if (stamps.empty()) {
-    throw std::runtime_error(pcd.string() + ": no clouds");
-  }
-  std::sort(stamps.begin(), stamps.end());
-  return stamps;
-}
 
 // A header from a stamp in nanoseconds, as bag to files names its files; zero otherwise.
 DetectionsHeader headerOfStamp(const std::string& stamp) {
@@ -63,31 +43,6 @@ std::vector<Eigen::Vector3d> pointsOf(const Cloud& cloud, const std::vector<std:
   return points;
 }
 
-double percentile(std::vector<double> values, int percent) {
-  if (values.empty()) {
-    return 0.0;
-  }
-  const std::size_t rank = (values.size() * static_cast<std::size_t>(percent) + 99) / 100;
-  const std::size_t index = rank == 0 ? 0 : rank - 1;  // nearest rank
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                   values.end());
-  return values[index];
-}
-
-void reportList(std::ostream& log, const char* title, const std::vector<std::string>& lines) {
-  constexpr std::size_t kShown = 10;
-  if (lines.empty()) {
-    return;
-  }
-  log << title << " (" << lines.size() << "):\n";
-  for (std::size_t i = 0; i < lines.size() && i < kShown; ++i) {
-    log << "  " << lines[i] << '\n';
-  }
-  if (lines.size() > kShown) {
-    log << "  ... and " << lines.size() - kShown << " more\n";
-  }
-}
-
 // One object for the fitter, and the id its cuboid gets.
 struct Input {
   std::int64_t id = 0;
@@ -97,6 +52,8 @@ struct Input {
 }  // namespace
 
 void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
+  using runs::percentile;
+  using runs::reportList;
   reportList(log, "cleared", cleared);
   reportList(log, "frames skipped", frames_skipped);
   reportList(log, "invalid detections skipped", invalid_detections);
@@ -124,7 +81,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   validate(options.ground);
   validate(options.segmentation);
   const std::unique_ptr<CuboidFitter> fitter = makeCuboidFitter(config, options.models);
-  const std::vector<std::string> stamps = cloudStamps(frames);
+  const std::vector<std::string> stamps = runs::cloudStamps(frames);
   FitCuboidsSummary summary;
   summary.method = config::enumName(config.method);
   summary.boxes = options.boxes;

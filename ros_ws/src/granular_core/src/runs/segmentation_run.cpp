@@ -15,6 +15,7 @@
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "run_helpers.h"
 
 namespace granular {
 namespace {
@@ -26,16 +27,6 @@ bool counted(const Eigen::Vector3d& centre, const SegmentationEvaluationOptions&
   const double range = centre.head<2>().norm();
   const double azimuth = std::abs(std::atan2(centre.y(), centre.x())) * 180.0 / M_PI;
   return range < options.max_range && azimuth <= options.half_field_of_view_deg;
-}
-
-double percentile95(std::vector<double> values) {
-  if (values.empty()) {
-    return 0.0;
-  }
-  const std::size_t rank = (values.size() * 95 + 99) / 100 - 1;  // nearest rank
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank),
-                   values.end());
-  return values[rank];
 }
 
 // One frame's figures for a set of segment boxes.
@@ -128,21 +119,10 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
                                             const SegmentationStageConfig& config,
                                             const SegmentationEvaluationOptions& options) {
   FrameSegmenter segmenter(ground, config);  // validates both
-  const fs::path pcd = frames / "pcd";
-  if (!fs::is_directory(pcd)) {
-    throw std::runtime_error(pcd.string() + ": no such folder (a bag-to-files folder has pcd/ "
-                                            "and detections_3d/)");
-  }
   std::vector<fs::path> clouds;
-  for (const fs::directory_entry& entry : fs::directory_iterator(pcd)) {
-    if (entry.path().extension() == ".pcd" && entry.path().filename().string()[0] != '.') {
-      clouds.push_back(entry.path());
-    }
+  for (const std::string& stamp : runs::cloudStamps(frames)) {
+    clouds.push_back(frames / "pcd" / (stamp + ".pcd"));
   }
-  if (clouds.empty()) {
-    throw std::runtime_error(pcd.string() + ": no clouds");
-  }
-  std::sort(clouds.begin(), clouds.end());
 
   std::optional<OutputFolder> saved;
   if (!options.save.empty()) {
@@ -278,7 +258,7 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   std::snprintf(line, sizeof(line), "time per cloud (ground, segments, boxes): mean %.2f ms, "
                                     "p95 %.2f ms\n",
                 milliseconds.empty() ? 0.0 : sum / static_cast<double>(milliseconds.size()),
-                percentile95(milliseconds));
+                runs::percentile(milliseconds, 95));
   out << line;
 }
 

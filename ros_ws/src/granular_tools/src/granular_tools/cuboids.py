@@ -87,10 +87,12 @@ def frames_stage(run, config, clouds_only):
     print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
-def cuboids_stage(run):
-    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", run.folder("frames"),
-               "--out", run.folder("cuboids"), "--boxes", run.boxes]
-    for option, value in (("--method", run.method), ("--models", run.models),
+def fit_command(run, frames, out, boxes, method=None, models=None):
+    """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
+    config_file(), sensor_height, azimuth_step, prior_classes and overwrite)."""
+    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
+               "--boxes", boxes]
+    for option, value in (("--method", method), ("--models", models),
                           ("--config", run.config_file("cuboids.yaml")),
                           ("--ground-config", run.config_file("ground.yaml")),
                           ("--segmentation-config", run.config_file("segmentation.yaml")),
@@ -98,8 +100,12 @@ def cuboids_stage(run):
                           ("--azimuth-step", run.azimuth_step),
                           ("--prior-classes", run.prior_classes)):
         command += [option, str(value)] if value is not None else []
-    command += ["--overwrite"] if run.overwrite else []
-    run_tool(command, "cuboids (fit_cuboids)")
+    return command + (["--overwrite"] if run.overwrite else [])
+
+
+def cuboids_stage(run):
+    run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
+                         run.method, run.models), "cuboids (fit_cuboids)")
 
 
 def report_stage(run):

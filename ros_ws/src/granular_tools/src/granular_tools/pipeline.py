@@ -22,6 +22,7 @@ from .bag_to_files.offline import convert_into_new_folder, has_detections
 from .bag_to_files.pcd import CloudError
 from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
+from .cuboids import fit_command
 from .models import pictures
 from .output import OutputError, check_output_folder, claimed_folder, run_main
 from .stages import StageError, existing_file, failure_marker, resolve, run_tool
@@ -120,18 +121,8 @@ def frames_stage(run):
 
 def cuboids_stage(run):
     """boxes "segment": the frames' boxes are the cuboids fitted to their segments."""
-    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames",
-               os.path.join(run.out, "frames"), "--out", os.path.join(run.out, "cuboids"),
-               "--boxes", "segment"]
-    for option, value in (("--config", run.config_file("cuboids.yaml")),
-                          ("--ground-config", run.config_file("ground.yaml")),
-                          ("--segmentation-config", run.config_file("segmentation.yaml")),
-                          ("--sensor-height", run.sensor_height),
-                          ("--azimuth-step", run.azimuth_step),
-                          ("--prior-classes", run.prior_classes)):
-        command += [option, str(value)] if value is not None else []
-    command += ["--overwrite"] if run.overwrite else []
-    run_tool(command, "cuboids (fit_cuboids)")
+    run_tool(fit_command(run, os.path.join(run.out, "frames"), os.path.join(run.out, "cuboids"),
+                         "segment"), "cuboids (fit_cuboids)")
 
 
 def objects_stage(run):

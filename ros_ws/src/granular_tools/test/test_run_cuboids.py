@@ -79,7 +79,7 @@ def test_a_clouds_only_bag_gives_cuboids_and_no_report(clouds_only_bag, tmp_path
 def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
     cases = [(["--boxes", "given"], "boxes must be segment or detections"),
              (["--method", "model"], "the model method needs models"),
-             (["--sensor-height", "-1"], "sensor_height must be positive")]
+             (["--sensor-height", "-1"], "sensor_height must be a positive number")]
     for arguments, message in cases:
         out = tmp_path / "run"
         result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", out]

@@ -67,6 +67,17 @@ double centreError(const OrientedBox& box, const GroundPlane& ground, const Stan
   return (box.centre() - expected).norm();
 }
 
+// The fit is the test car: its heading within 0.5 deg, its centre within 2 cm, the prior's
+// footprint.
+void expectTheCar(const std::optional<FittedCuboid>& fitted, const GroundPlane& ground,
+                  const StandingBox& car) {
+  ASSERT_TRUE(fitted);
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
+  EXPECT_NEAR(fitted->box.size().x(), 4.5, 0.02);
+  EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02);
+}
+
 TEST(GeometricFitTest, AnLShapeSeenFromEachOfItsCornersGivesTheBox) {
   const GroundPlane ground = road();
   const GeometricCuboidFitter fitter(carPrior());
@@ -96,12 +107,7 @@ TEST(GeometricFitTest, APartlySeenCornerGrowsToThePriorFromTheSeenCorner) {
   const std::vector<Eigen::Vector3d> seen =
       seenFaces(car, sensorInRoadFrame(ground), 0.05,
                 [](double u, double, double) { return u <= -2.25 + 2.5 + 1e-9; });
-  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
-  ASSERT_TRUE(fitted);
-  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
-  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
-  EXPECT_NEAR(fitted->box.size().x(), 4.5, 1e-9);
-  EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02);
+  expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
 }
 
 TEST(GeometricFitTest, ARearFaceGrowsAwayFromTheSensorToThePriorLength) {
@@ -110,13 +116,8 @@ TEST(GeometricFitTest, ARearFaceGrowsAwayFromTheSensorToThePriorLength) {
   car.centre = {12.0, 0.0};
   car.yaw = 2.0 * kDeg;
   const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
-  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(carPrior()).fit(view(seen, ground));
-  ASSERT_TRUE(fitted);
   // The rear is at x = 9.75: the box reaches 4.5 m beyond it, not towards the sensor.
-  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
-  EXPECT_LT(centreError(fitted->box, ground, car), 0.02);
-  EXPECT_NEAR(fitted->box.size().x(), 4.5, 1e-9);
-  EXPECT_NEAR(fitted->box.size().y(), 1.8, 0.02);
+  expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
 }
 
 TEST(GeometricFitTest, ASideFaceGrowsAwayFromTheSensorToThePriorWidth) {

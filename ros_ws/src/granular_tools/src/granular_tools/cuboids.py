@@ -21,14 +21,15 @@ from .bag_to_files.pcd import CloudError
 from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import StageError, existing_file, failure_marker, resolve, run_tool
+from .stages import (ConfigFolder, StageError, bad_argument, existing_file, failure_marker,
+                     positive_number, resolve, run_tool)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
 
 
 @dataclasses.dataclass
-class CuboidsRun:
+class CuboidsRun(ConfigFolder):
     """One run's arguments, checked (CuboidsRun.checked) before any stage starts."""
     bag: str
     out: str
@@ -47,31 +48,25 @@ class CuboidsRun:
     def folder(self, name):
         return os.path.join(self.out, name)
 
-    def config_file(self, name):
-        path = os.path.join(self.config_dir, name) if self.config_dir else None
-        return path if path and os.path.exists(path) else None
-
     def checked(self):
         """Raise StageError("arguments", ...) (exit 2) for anything that would fail later."""
-        def bad(message):
-            return StageError("arguments", message, 2)
-
         if self.boxes not in BOXES:
-            raise bad(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
+            raise bad_argument(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
         if self.method is not None and self.method not in METHODS:
-            raise bad(f"method must be one of {', '.join(METHODS)}, got '{self.method}'")
+            raise bad_argument(f"method must be one of {', '.join(METHODS)}, got '{self.method}'")
         if self.method == "model" and not self.models:
-            raise bad("the model method needs models (a models folder pipeline.launch wrote)")
+            raise bad_argument("the model method needs models (a models folder that "
+                               "pipeline.launch wrote)")
         if self.models and not os.path.isdir(self.models):
-            raise bad(f"models folder {self.models} not found")
+            raise bad_argument(f"models folder {self.models} not found")
         if self.config_dir and not os.path.isdir(self.config_dir):
-            raise bad(f"config folder {self.config_dir} not found")
+            raise bad_argument(f"config folder {self.config_dir} not found")
         existing_file(self.bag, "bag")
         for name in ("frames", "cuboids", "report"):
             try:
                 check_output_folder(self.folder(name), self.overwrite)
             except OutputError as error:
-                raise bad(str(error)) from error
+                raise bad_argument(str(error)) from error
         return self
 
 
@@ -143,16 +138,17 @@ def run(cuboids_run):
                 print("run_cuboids: the bag has no boxes, so no report", flush=True)
 
 
-def _optional(kind, text, name):
-    if text in (None, ""):
-        return None
-    try:
-        value = kind(text)
-    except ValueError:
-        raise StageError("arguments", f"{name} '{text}' is not a number", 2) from None
-    if value <= 0:
-        raise StageError("arguments", f"{name} must be positive, got {text}", 2)
-    return value
+def add_sensor_options(parser):
+    """--sensor-height, --azimuth-step and --prior-classes: the sensor and the vehicles that
+    fit_cuboids needs to know."""
+    parser.add_argument("--sensor-height", default="", metavar="M",
+                        help="the sensor's height above the road (default: config/ground.yaml's; "
+                             "the simulator 2.3, KITTI 1.73)")
+    parser.add_argument("--azimuth-step", default="", metavar="DEG",
+                        help="the sensor's angle between returns along a ring (the simulator 1, "
+                             "KITTI 0.176)")
+    parser.add_argument("--prior-classes", default="", metavar="LIST",
+                        help="the size priors the geometric fit chooses among, comma-separated")
 
 
 def main(argv=None):
@@ -178,12 +174,7 @@ def main(argv=None):
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder with bag_to_files.yaml, cuboids.yaml, ground.yaml, "
                              "segmentation.yaml (default: the tools' built-in defaults)")
-    parser.add_argument("--sensor-height", default="", metavar="M",
-                        help="the sensor's height above the road (KITTI 1.73, simulator 2.3)")
-    parser.add_argument("--azimuth-step", default="", metavar="DEG",
-                        help="the sensor's angle between returns (KITTI 0.176, simulator 1)")
-    parser.add_argument("--prior-classes", default="", metavar="LIST",
-                        help="size priors the geometric fit chooses among, comma-separated")
+    add_sensor_options(parser)
     parser.add_argument("--max-range", default="", metavar="M",
                         help="report: only truths within M metres of the sensor")
     parser.add_argument("--min-points", default="", metavar="N",
@@ -204,11 +195,11 @@ def main(argv=None):
             boxes=args.boxes, method=args.method or None,
             models=resolve(args.models or None, args.relative_to),
             config_dir=resolve(args.config_dir, args.relative_to),
-            sensor_height=_optional(float, args.sensor_height, "sensor_height"),
-            azimuth_step=_optional(float, args.azimuth_step, "azimuth_step"),
+            sensor_height=positive_number(args.sensor_height, "sensor_height"),
+            azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),
             prior_classes=args.prior_classes or None,
-            max_range=_optional(float, args.max_range, "max_range"),
-            min_points=_optional(int, args.min_points, "min_points"),
+            max_range=positive_number(args.max_range, "max_range"),
+            min_points=positive_number(args.min_points, "min_points", int),
             labels=tuple(label for label in args.labels.split(",") if label),
             overwrite=args.overwrite)
         run(cuboids_run)

@@ -22,10 +22,11 @@ from .bag_to_files.offline import convert_into_new_folder, has_detections
 from .bag_to_files.pcd import CloudError
 from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
-from .cuboids import fit_command
+from .cuboids import add_sensor_options, fit_command
 from .models import pictures
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import StageError, existing_file, failure_marker, resolve, run_tool
+from .stages import (ConfigFolder, StageError, bad_argument, existing_file, failure_marker,
+                     positive_number, resolve, run_tool)
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
@@ -33,7 +34,7 @@ BOXES = ("detections", "segment")
 
 
 @dataclasses.dataclass
-class PipelineRun:
+class PipelineRun(ConfigFolder):
     """One run's arguments, checked (PipelineRun.checked) before any stage starts."""
     bag: str
     out: str
@@ -55,44 +56,37 @@ class PipelineRun:
     def objects_of(self, threshold):
         return os.path.join(self.objects_folder, f"N{threshold}")
 
-    def config_file(self, name):
-        """The config file of a stage when a config folder is given and holds it."""
-        path = os.path.join(self.config_dir, name) if self.config_dir else None
-        return path if path and os.path.exists(path) else None
-
     def checked(self):
         """Raise StageError("arguments", ...) (exit 2) for anything that would fail later."""
-        def bad(message):
-            return StageError("arguments", message, 2)
-
         unknown = sorted(set(self.stages) - set(STAGES))
         if unknown or not self.stages:
-            raise bad(f"unknown stage(s) {', '.join(unknown) or '(none given)'}; stages: "
-                      f"{', '.join(STAGES)}")
+            raise bad_argument(f"unknown stage(s) {', '.join(unknown) or '(none given)'}; "
+                               f"stages: {', '.join(STAGES)}")
         if not self.thresholds or any(t < 1 for t in self.thresholds):
-            raise bad("n_thresh must be a list of positive whole numbers of points")
+            raise bad_argument("n_thresh must be a list of positive whole numbers of points")
         if "models" in self.stages and self.models_from not in self.thresholds:
-            raise bad(f"models_from {self.models_from} is not one of n_thresh "
-                      f"{','.join(map(str, self.thresholds))}")
+            raise bad_argument(f"models_from {self.models_from} is not one of n_thresh "
+                               f"{','.join(map(str, self.thresholds))}")
         if self.boxes not in BOXES:
-            raise bad(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
+            raise bad_argument(f"boxes must be {' or '.join(BOXES)}, got '{self.boxes}'")
         if self.boxes == "segment" and "models" in self.stages:
-            raise bad("boxes:=segment gives objects labelled unknown, of which no class models "
-                      "can be built: run the stages frames,objects (stages:=frames,objects), "
-                      "then classify the objects with a classifier trained on labelled drives")
+            raise bad_argument("boxes:=segment gives objects labelled unknown, of which no class "
+                               "models can be built: run the stages frames,objects "
+                               "(stages:=frames,objects), then classify the objects with a "
+                               "classifier trained on labelled drives")
         if self.model_method not in ("plain", "icp"):
-            raise bad(f"model_method must be plain or icp, got '{self.model_method}'")
+            raise bad_argument(f"model_method must be plain or icp, got '{self.model_method}'")
         if "frames" in self.stages:
             existing_file(self.bag, "bag")
         if self.config_dir and not os.path.isdir(self.config_dir):
-            raise bad(f"config folder {self.config_dir} not found")
+            raise bad_argument(f"config folder {self.config_dir} not found")
         folders = [STAGE_FOLDERS[stage] for stage in self.stages]
         folders += ["cuboids"] if self.boxes == "segment" and "objects" in self.stages else []
         for folder in folders:
             try:
                 check_output_folder(os.path.join(self.out, folder), self.overwrite)
             except OutputError as error:
-                raise bad(str(error)) from error
+                raise bad_argument(str(error)) from error
         return self
 
 
@@ -176,19 +170,6 @@ def thresholds_from(text):
     return values
 
 
-def _positive(text, name):
-    """A positive number from `text`; None for an empty text; a StageError (exit 2) otherwise."""
-    if not text:
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        value = 0.0
-    if not value > 0:
-        raise StageError("arguments", f"{name} must be a positive number, got '{text}'", 2)
-    return value
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="run_pipeline",
@@ -222,14 +203,7 @@ def main(argv=None):
                         help="detections (the bag's boxes) or segment (cuboids fitted to the "
                              "box-free segments into OUT/cuboids, for bags without boxes; "
                              "stages frames,objects only); default %(default)s")
-    parser.add_argument("--sensor-height", default="", metavar="M",
-                        help="--boxes segment: the sensor above the road (default: "
-                             "config/ground.yaml's; the simulator 2.3, KITTI 1.73)")
-    parser.add_argument("--azimuth-step", default="", metavar="DEG",
-                        help="--boxes segment: the angle between returns along a ring "
-                             "(the simulator 1, KITTI 0.176)")
-    parser.add_argument("--prior-classes", default="", metavar="LIST",
-                        help="--boxes segment: the cuboids' size priors, comma-separated")
+    add_sensor_options(parser)  # with --boxes segment
     parser.add_argument("--overwrite", action="store_true",
                         help="replace results that granular tools wrote in OUT")
     args = parser.parse_args(argv)
@@ -248,8 +222,8 @@ def main(argv=None):
             thresholds=thresholds_from(args.n_thresh), models_from=models_from,
             model_method=args.model_method,
             config_dir=resolve(args.config_dir, args.relative_to), overwrite=args.overwrite,
-            boxes=args.boxes, sensor_height=_positive(args.sensor_height, "sensor_height"),
-            azimuth_step=_positive(args.azimuth_step, "azimuth_step"),
+            boxes=args.boxes, sensor_height=positive_number(args.sensor_height, "sensor_height"),
+            azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),
             prior_classes=args.prior_classes or None)
         run(pipeline_run)
         print(f"run_pipeline: done in {time.monotonic() - started:.1f} s; results in "

@@ -20,6 +20,20 @@ class StageError(RuntimeError):
         self.stage, self.reason, self.status = stage, message, status
 
 
+def bad_argument(message):
+    """The StageError of a bad argument: stage "arguments", exit status 2."""
+    return StageError("arguments", message, 2)
+
+
+class ConfigFolder:
+    """For a runner's arguments with a `config_dir` (None: the tools' defaults)."""
+
+    def config_file(self, name):
+        """The config file `name` when the config folder is given and holds it."""
+        path = os.path.join(self.config_dir, name) if self.config_dir else None
+        return path if path and os.path.exists(path) else None
+
+
 def resolve(path, relative_to=None):
     """`path` made absolute against `relative_to` (the folder the user ran roslaunch from,
     which launch files pass) or the working directory."""
@@ -36,6 +50,20 @@ def existing_file(path, what):
     if not os.access(path, os.R_OK):
         raise StageError("arguments", f"{what} {path} is not readable", 2)
     return path
+
+
+def positive_number(text, name, kind=float):
+    """A positive `kind` from an option's `text`; None for an empty text; a StageError (exit 2)
+    naming the option otherwise."""
+    if text in (None, ""):
+        return None
+    try:
+        value = kind(text)
+    except ValueError:
+        value = 0
+    if not value > 0:
+        raise StageError("arguments", f"{name} must be a positive number, got '{text}'", 2)
+    return value
 
 
 def run_tool(command, stage):

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <granular_core/text.h>
+
 #include "granular_ros/config_file.h"
 
 namespace granular_ros {
@@ -45,6 +47,18 @@ std::string BoxFreeOptions::help(const std::string& segmentation_option) {
          "                         --ground-config; KITTI's HDL-64E 1.73, the simulator's 2.3)\n"
          "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
          "                         (objects.azimuth_step_deg; HDL-64E 0.176, the simulator 1)\n";
+}
+
+granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,
+                                                        const std::string& background_label) {
+  granular::SupervisedClassifier classifier = granular::SupervisedClassifier::load(file);
+  const std::vector<std::string>& labels = classifier.labels();
+  if (std::find(labels.begin(), labels.end(), background_label) == labels.end()) {
+    throw std::runtime_error(file + ": the classifier knows no class '" + background_label +
+                             "' (it knows " + granular::joined(labels) +
+                             "); train it on objects extracted with --background");
+  }
+  return classifier;
 }
 
 }  // namespace granular_ros

@@ -102,14 +102,8 @@ int main(int argc, char** argv) {
   };
   return tool.run(argc, argv, configure, [&] {
     if (classifier_file) {
-      classifier.emplace(granular::SupervisedClassifier::load(*classifier_file));
-      const std::vector<std::string>& labels = classifier->labels();
-      if (std::find(labels.begin(), labels.end(), config.background.label) == labels.end()) {
-        throw std::runtime_error(*classifier_file + ": the classifier knows no class '" +
-                                 config.background.label + "' (it knows " +
-                                 granular::joined(labels) +
-                                 "); train it on objects extracted with --background");
-      }
+      classifier.emplace(
+          granular_ros::loadBackgroundClassifier(*classifier_file, config.background.label));
       options.classifier = &*classifier;
     }
     options.save = save;

@@ -41,6 +41,10 @@ std::string usage() {
          "  --method NAME          geometric, model or rectangle (default: the config's method)\n"
          "  --config FILE          YAML file like config/cuboids.yaml\n"
          "  --boxes WHAT           segment (default) or detections\n"
+         "  --classifier FILE      --boxes segment: the Background decision, a train_classifier\n"
+         "                         file trained with Background objects (extract_objects\n"
+         "                         --background); the segments it calls Background get no\n"
+         "                         cuboid\n"
          "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
          "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
          "                         BoxTruck,SchoolBus for the simulator\n"
@@ -70,6 +74,7 @@ struct Options {
   std::optional<std::string> method;
   std::optional<std::string> config_file;
   std::optional<std::string> boxes;
+  std::optional<std::string> classifier_file;
   granular_ros::BoxFreeOptions box_free;
   std::optional<std::string> prior_classes;
   int threads = 0;
@@ -102,6 +107,7 @@ int main(int argc, char** argv) {
       .value("--method", options.method)
       .value("--config", options.config_file)
       .value("--boxes", options.boxes)
+      .value("--classifier", options.classifier_file)
       .value("--prior-classes", options.prior_classes)
       .threads("--threads", options.threads);
   options.box_free.addTo(tool.options());
@@ -121,11 +127,20 @@ int main(int argc, char** argv) {
     if (options.boxes) {
       run.boxes = parseChoice<granular::CuboidInputs>("--boxes", *options.boxes);
     }
+    if (options.classifier_file && run.boxes != granular::CuboidInputs::kSegments) {
+      throw std::invalid_argument("--classifier decides on segments: it needs --boxes segment");
+    }
     if (config.method == granular::CuboidMethod::kModel && !options.models) {
       throw std::invalid_argument("the model method needs --models (or --method geometric)");
     }
   };
+  std::optional<granular::SupervisedClassifier> classifier;
   return tool.run(argc, argv, configure, [&] {
+    if (options.classifier_file) {
+      classifier.emplace(granular_ros::loadBackgroundClassifier(
+          *options.classifier_file, run.segmentation.background.label));
+      run.classifier = &*classifier;
+    }
     if (options.models && config.method == granular::CuboidMethod::kModel) {
       run.models = granular::readClassModels(*options.models);
     } else if (options.models) {

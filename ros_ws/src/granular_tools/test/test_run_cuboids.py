@@ -76,16 +76,42 @@ def test_a_clouds_only_bag_gives_cuboids_and_no_report(clouds_only_bag, tmp_path
     assert not (tmp_path / "again").exists()
 
 
+def test_the_background_decision_keeps_walls_out_of_the_cuboids(drive, tmp_path):
+    objects = tmp_path / "objects"
+    classifier = tmp_path / "background.yml"
+    for step in (hostile.EXTRACT + ["--in", drive / "frames", "--out", objects, "--background"]
+                 + SIMULATOR[:4],
+                 hostile.TRAIN + ["--objects", objects, "--method", "svm", "--out", classifier]):
+        result = hostile.run(step)
+        assert result.status == 0, str(result)
+    scores = {}
+    for name, extra in (("all", []), ("kept", ["--classifier", classifier])):
+        out = tmp_path / name
+        result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", out]
+                             + SIMULATOR + REPORT + extra)
+        assert result.status == 0, str(result)
+        scores[name] = paper_criterion(out)
+    # Trained and tested on one drive: the decision must drop segments and keep the vehicles.
+    assert scores["kept"]["fp"] < scores["all"]["fp"] / 2, scores
+    assert scores["kept"]["recall"] > scores["all"]["recall"] - 0.1, scores
+
+
 def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
     cases = [(["--boxes", "given"], "boxes must be segment or detections"),
              (["--method", "model"], "the model method needs models"),
-             (["--sensor-height", "-1"], "sensor_height must be a positive number")]
+             (["--sensor-height", "-1"], "sensor_height must be a positive number"),
+             (["--boxes", "detections", "--classifier", drive / "knn.yml"],
+              "it needs boxes:=segment")]
     for arguments, message in cases:
         out = tmp_path / "run"
         result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", out]
                              + arguments)
         hostile.assert_fails_clearly(result, 2, message)
         assert not out.exists(), arguments
+    # A classifier that knows no Background: the fitting stage names the file.
+    result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", tmp_path / "knn",
+                                        "--classifier", drive / "knn.yml"])
+    hostile.assert_fails_clearly(result, 1, drive / "knn.yml", "knows no class 'Background'")
 
 
 def test_the_pipeline_crops_a_clouds_only_bags_objects_in_its_fitted_cuboids(clouds_only_bag,

@@ -63,6 +63,9 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
                 method.c_str(), boxes == CuboidInputs::kSegments ? "segments" : "detections",
                 frames, objects, fitted, seconds);
   out << line;
+  if (called_background > 0) {
+    out << "  segments called Background (no cuboid): " << called_background << '\n';
+  }
   for (const auto& [label, count] : labels) {
     out << "  " << label << ": " << count << '\n';
   }
@@ -107,6 +110,16 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     if (options.boxes == CuboidInputs::kSegments) {
       const ObjectSegmentation segmentation = segmenter.segment(cloud);
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
+        if (options.classifier != nullptr) {
+          // As evaluate_segmentation decides: the segment's box, in its object frame.
+          const Cloud object =
+              cropToObjectFrame(cloud, segmentation.segments[s].box, Eigen::Vector3d::Zero());
+          if (options.classifier->predict(options.classifier->features(object)) ==
+              options.segmentation.background.label) {
+            ++summary.called_background;
+            continue;
+          }
+        }
         Input input;
         input.id = static_cast<std::int64_t>(s);
         input.view.points = pointsOf(cloud, segmentation.segments[s].indices);

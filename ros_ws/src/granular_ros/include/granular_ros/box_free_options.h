@@ -5,6 +5,7 @@
 
 #include <granular_core/ground/ground.h>
 #include <granular_core/segmentation/object_segmentation.h>
+#include <granular_core/supervised/supervised_classifier.h>
 
 #include "granular_ros/command_line.h"
 
@@ -36,5 +37,10 @@ struct BoxFreeOptions {
   /// The --help lines of the options addTo adds.
   static std::string help(const std::string& segmentation_option = "--segmentation-config");
 };
+
+/// The Background decision's classifier from `file` (train_classifier's); a
+/// std::runtime_error naming the file when it knows no class `background_label`.
+granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,
+                                                        const std::string& background_label);
 
 }  // namespace granular_ros

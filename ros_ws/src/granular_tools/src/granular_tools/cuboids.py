@@ -36,6 +36,7 @@ class CuboidsRun(ConfigFolder):
     boxes: str = "segment"
     method: str = None          # None: the config's
     models: str = None
+    classifier: str = None      # the Background decision on segments
     config_dir: str = None
     sensor_height: float = None
     azimuth_step: float = None
@@ -57,6 +58,11 @@ class CuboidsRun(ConfigFolder):
         if self.method == "model" and not self.models:
             raise bad_argument("the model method needs models (a models folder that "
                                "pipeline.launch wrote)")
+        if self.classifier and self.boxes != "segment":
+            raise bad_argument("a Background classifier decides on segments: it needs "
+                               "boxes:=segment")
+        if self.classifier:
+            existing_file(self.classifier, "classifier")
         if self.models and not os.path.isdir(self.models):
             raise bad_argument(f"models folder {self.models} not found")
         if self.config_dir and not os.path.isdir(self.config_dir):
@@ -82,12 +88,13 @@ def frames_stage(run, config, clouds_only):
     print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
-def fit_command(run, frames, out, boxes, method=None, models=None):
+def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
     config_file(), sensor_height, azimuth_step, prior_classes and overwrite)."""
     command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
                "--boxes", boxes]
     for option, value in (("--method", method), ("--models", models),
+                          ("--classifier", classifier),
                           ("--config", run.config_file("cuboids.yaml")),
                           ("--ground-config", run.config_file("ground.yaml")),
                           ("--segmentation-config", run.config_file("segmentation.yaml")),
@@ -100,7 +107,7 @@ def fit_command(run, frames, out, boxes, method=None, models=None):
 
 def cuboids_stage(run):
     run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
-                         run.method, run.models), "cuboids (fit_cuboids)")
+                         run.method, run.models, run.classifier), "cuboids (fit_cuboids)")
 
 
 def report_stage(run):
@@ -171,6 +178,10 @@ def main(argv=None):
                         help="geometric, model or rectangle (default: the config's)")
     parser.add_argument("--models", default="", metavar="FOLDER",
                         help="class models (OUT/models of pipeline.launch) for --method model")
+    parser.add_argument("--classifier", default="", metavar="FILE",
+                        help="--boxes segment: the Background decision, a train_classifier file "
+                             "trained with Background objects (extract_objects --background); "
+                             "the segments it calls Background get no cuboid")
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder with bag_to_files.yaml, cuboids.yaml, ground.yaml, "
                              "segmentation.yaml (default: the tools' built-in defaults)")
@@ -194,6 +205,7 @@ def main(argv=None):
             bag=resolve(args.bag, args.relative_to), out=resolve(args.out, args.relative_to),
             boxes=args.boxes, method=args.method or None,
             models=resolve(args.models or None, args.relative_to),
+            classifier=resolve(args.classifier or None, args.relative_to),
             config_dir=resolve(args.config_dir, args.relative_to),
             sensor_height=positive_number(args.sensor_height, "sensor_height"),
             azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),

@@ -13,6 +13,7 @@
 #include "granular_core/cuboids/cuboid_fitter.h"
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/segmentation/object_segmentation.h"
+#include "granular_core/supervised/supervised_classifier.h"
 
 namespace granular {
 
@@ -37,6 +38,9 @@ struct FitCuboidsOptions {
   GroundConfig ground;
   /// The segmentation (kSegments); config/segmentation.yaml.
   SegmentationStageConfig segmentation;
+  /// The Background decision (kSegments): a classifier trained with Background objects; the
+  /// segments it calls segmentation.background.label get no cuboid. Null: every segment does.
+  const SupervisedClassifier* classifier = nullptr;
   /// The class models, for the model-based method.
   std::vector<LabelledModel> models;
   /// Threads fitting a frame's objects; 0: every core.
@@ -54,6 +58,7 @@ struct FitCuboidsSummary {
   std::size_t frames = 0;   ///< frames written
   std::size_t objects = 0;  ///< segments or valid detections given to the fitter
   std::size_t fitted = 0;   ///< cuboids written (the others had too few points)
+  std::size_t called_background = 0;  ///< segments the classifier called Background
   std::map<std::string, std::size_t> labels;  ///< cuboids per label
   /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
   std::vector<std::string> frames_skipped;

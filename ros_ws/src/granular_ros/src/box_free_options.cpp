@@ -40,7 +40,8 @@ granular::SegmentationStageConfig BoxFreeOptions::segmentation() const {
 std::string BoxFreeOptions::help(const std::string& segmentation_option) {
   // The option and its argument in the first 25 columns, as the tools' other options.
   std::string segmentation = "  " + segmentation_option + " FILE";
-  segmentation.resize(std::max<std::size_t>(segmentation.size() + 1, 25), ' ');
+  segmentation += segmentation.size() < 24 ? std::string(25 - segmentation.size(), ' ')
+                                           : "\n" + std::string(25, ' ');
   return "  --ground-config FILE   YAML file like config/ground.yaml\n" + segmentation +
          "YAML file like config/segmentation.yaml\n"
          "  --sensor-height M      the sensor's height above the road (plane.sensor_height of\n"

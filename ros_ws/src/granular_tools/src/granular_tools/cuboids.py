@@ -21,8 +21,8 @@ from .bag_to_files.pcd import CloudError
 from .bags import BagError
 from .config_loading import ConfigError, load_yaml_over
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import (ConfigFolder, StageError, bad_argument, existing_file, failure_marker,
-                     positive_number, resolve, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument, existing_file,
+                     failure_marker, positive_number, resolve, run_tool)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
@@ -192,11 +192,7 @@ def main(argv=None):
                         help="report: only truths with at least N points")
     parser.add_argument("--labels", default="", metavar="LIST",
                         help="report: only truths with these labels, comma-separated")
-    parser.add_argument("--relative-to", metavar="FOLDER",
-                        help="resolve relative paths against FOLDER (the launch file passes the "
-                             "folder roslaunch was started from; default: the working folder)")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace results that granular tools wrote in OUT")
+    add_runner_options(parser)
     args = parser.parse_args(argv)
     started = time.monotonic()
 

@@ -25,8 +25,8 @@ from .config_loading import ConfigError, load_yaml_over
 from .cuboids import add_sensor_options, fit_command
 from .models import pictures
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import (ConfigFolder, StageError, bad_argument, existing_file, failure_marker,
-                     positive_number, resolve, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument, existing_file,
+                     failure_marker, positive_number, resolve, run_tool)
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
@@ -196,16 +196,12 @@ def main(argv=None):
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder with bag_to_files.yaml, extraction.yaml, models.yaml "
                              "(default: the tools' built-in defaults)")
-    parser.add_argument("--relative-to", metavar="FOLDER",
-                        help="resolve relative paths against FOLDER (the launch files pass the "
-                             "folder roslaunch was started from; default: the working folder)")
     parser.add_argument("--boxes", default="detections",
                         help="detections (the bag's boxes) or segment (cuboids fitted to the "
                              "box-free segments into OUT/cuboids, for bags without boxes; "
                              "stages frames,objects only); default %(default)s")
     add_sensor_options(parser)  # with --boxes segment
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace results that granular tools wrote in OUT")
+    add_runner_options(parser)
     args = parser.parse_args(argv)
     started = time.monotonic()
 

@@ -34,6 +34,15 @@ class ConfigFolder:
         return path if path and os.path.exists(path) else None
 
 
+def add_runner_options(parser):
+    """--relative-to and --overwrite, as every runner behind a launch file takes them."""
+    parser.add_argument("--relative-to", metavar="FOLDER",
+                        help="resolve relative paths against FOLDER (the launch file passes the "
+                             "folder roslaunch was started from; default: the working folder)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace results that granular tools wrote in OUT")
+
+
 def resolve(path, relative_to=None):
     """`path` made absolute against `relative_to` (the folder the user ran roslaunch from,
     which launch files pass) or the working directory."""

@@ -14,7 +14,7 @@ import time
 from .. import pipeline
 from ..bag_to_files.pcd import CloudError
 from ..output import OutputError, claimed_folder, run_main
-from ..stages import StageError, failure_marker, resolve, run_tool
+from ..stages import StageError, add_runner_options, failure_marker, resolve, run_tool
 from . import report
 from .metrics import ResultsError
 
@@ -127,11 +127,7 @@ def main(argv=None):
                              "comma-separated; each method runs with each (default: "
                              "%(default)s)")
     parser.add_argument("--config-dir", metavar="FOLDER")
-    parser.add_argument("--relative-to", metavar="FOLDER",
-                        help="resolve relative paths against FOLDER (the launch file passes the "
-                             "folder roslaunch was started from; default: the working folder)")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace results that granular tools wrote in OUT")
+    add_runner_options(parser)
     args = parser.parse_args(argv)
     started = time.monotonic()
 

@@ -14,15 +14,10 @@ import dataclasses
 import os
 import time
 
-from . import progress
-from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.offline import convert_into_new_folder, has_detections
-from .bag_to_files.pcd import CloudError
-from .bags import BagError
-from .config_loading import ConfigError, load_yaml_over
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument, existing_file,
-                     failure_marker, positive_number, resolve, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument,
+                     bag_frames_config, existing_file, failure_marker, frames_stage,
+                     positive_number, resolve, run_tool)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
@@ -76,18 +71,6 @@ class CuboidsRun(ConfigFolder):
         return self
 
 
-def frames_stage(run, config, clouds_only):
-    config = dataclasses.replace(config, clouds_only=clouds_only)
-    reporter = progress.Reporter("frames", unit="messages")
-    try:
-        stats = convert_into_new_folder(run.bag, run.folder("frames"), config.check(),
-                                        run.overwrite, reporter)
-    except (BagError, CloudError, OutputError, ConfigError, ValueError) as error:
-        raise StageError("frames", str(error)) from error
-    reporter.finish()
-    print(f"frames: {stats.summary(config.slop)}", flush=True)
-
-
 def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
     config_file(), sensor_height, azimuth_step, prior_classes and overwrite)."""
@@ -123,21 +106,17 @@ def report_stage(run):
 def run(cuboids_run):
     """Run the stages of a CuboidsRun into its OUT, which is locked meanwhile."""
     cuboids_run = cuboids_run.checked()
-    config = BagToFilesConfig()
-    config_file = cuboids_run.config_file("bag_to_files.yaml")
-    if config_file:
-        config = load_yaml_over(config, config_file)
-    try:
-        boxed = has_detections(cuboids_run.bag, config)
-    except BagError as error:
-        raise StageError("frames", str(error)) from error
+    config, boxed = bag_frames_config(cuboids_run.bag,
+                                      cuboids_run.config_file("bag_to_files.yaml"))
     if cuboids_run.boxes == "detections" and not boxed:
         raise StageError("arguments", f"{cuboids_run.bag} has no {config.detections_topic}: "
                                       "boxes:=detections needs a bag with boxes (boxes:=segment "
                                       "fits the segments of a clouds-only bag)", 2)
     with claimed_folder(cuboids_run.out, "run_cuboids") as out:
         with failure_marker(out):
-            frames_stage(cuboids_run, config, clouds_only=not boxed)
+            frames_stage(cuboids_run.bag, cuboids_run.folder("frames"),
+                         dataclasses.replace(config, clouds_only=not boxed),
+                         cuboids_run.overwrite)
             cuboids_stage(cuboids_run)
             if boxed:
                 report_stage(cuboids_run)

@@ -16,17 +16,12 @@ import dataclasses
 import os
 import time
 
-from . import progress
-from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.offline import convert_into_new_folder, has_detections
-from .bag_to_files.pcd import CloudError
-from .bags import BagError
-from .config_loading import ConfigError, load_yaml_over
 from .cuboids import add_sensor_options, fit_command
 from .models import pictures
 from .output import OutputError, check_output_folder, claimed_folder, run_main
-from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument, existing_file,
-                     failure_marker, positive_number, resolve, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument,
+                     bag_frames_config, existing_file, failure_marker, frames_stage,
+                     positive_number, resolve, run_tool)
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
@@ -90,27 +85,13 @@ class PipelineRun(ConfigFolder):
         return self
 
 
-def frames_stage(run):
-    config = BagToFilesConfig()
-    config_file = run.config_file("bag_to_files.yaml")
-    if config_file:
-        config = load_yaml_over(config, config_file)
-    try:
-        boxed = has_detections(run.bag, config)
-    except BagError as error:
-        raise StageError("frames", str(error)) from error
+def pipeline_frames_stage(run):
+    config, boxed = bag_frames_config(run.bag, run.config_file("bag_to_files.yaml"))
     if not boxed and run.boxes != "segment":
         raise StageError("frames", f"{run.bag} has no {config.detections_topic}: a bag without "
                                    "boxes runs with boxes:=segment (--boxes segment)")
-    config = dataclasses.replace(config, clouds_only=not boxed)
-    reporter = progress.Reporter("frames", unit="messages")
-    try:
-        stats = convert_into_new_folder(run.bag, os.path.join(run.out, "frames"), config.check(),
-                                        run.overwrite, reporter)
-    except (BagError, CloudError, OutputError, ConfigError, ValueError) as error:
-        raise StageError("frames", str(error)) from error
-    reporter.finish()
-    print(f"frames: {stats.summary(config.slop)}", flush=True)
+    frames_stage(run.bag, os.path.join(run.out, "frames"),
+                 dataclasses.replace(config, clouds_only=not boxed), run.overwrite)
 
 
 def cuboids_stage(run):
@@ -152,7 +133,7 @@ def run(pipeline_run):
     pipeline_run = pipeline_run.checked()
     with claimed_folder(pipeline_run.out, "run_pipeline") as out:
         with failure_marker(out):
-            for stage, action in (("frames", frames_stage), ("objects", objects_stage),
+            for stage, action in (("frames", pipeline_frames_stage), ("objects", objects_stage),
                                   ("models", models_stage)):
                 if stage in pipeline_run.stages:
                     action(pipeline_run)

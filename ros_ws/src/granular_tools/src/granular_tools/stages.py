@@ -6,6 +6,12 @@ import os
 import signal
 import subprocess
 
+from . import progress
+from .bag_to_files.config import BagToFilesConfig
+from .bag_to_files.offline import convert_into_new_folder, has_detections
+from .bag_to_files.pcd import CloudError
+from .bags import BagError
+from .config_loading import ConfigError, load_yaml_over
 from .output import Interrupted, OutputError, write_atomically
 
 FAILED_MARKER = "FAILED"
@@ -73,6 +79,28 @@ def positive_number(text, name, kind=float):
     if not value > 0:
         raise StageError("arguments", f"{name} must be a positive number, got '{text}'", 2)
     return value
+
+
+def bag_frames_config(bag, config_file):
+    """(bag-to-files config: defaults, then `config_file` when given; whether `bag` carries the
+    config's detections topic). A bag that cannot be read is a StageError of the frames stage."""
+    config = load_yaml_over(BagToFilesConfig(), config_file) if config_file \
+        else BagToFilesConfig()
+    try:
+        return config, has_detections(bag, config)
+    except BagError as error:
+        raise StageError("frames", str(error)) from error
+
+
+def frames_stage(bag, folder, config, overwrite):
+    """The frames stage: `bag` to files into `folder` (an output folder) with `config`."""
+    reporter = progress.Reporter("frames", unit="messages")
+    try:
+        stats = convert_into_new_folder(bag, folder, config.check(), overwrite, reporter)
+    except (BagError, CloudError, OutputError, ConfigError, ValueError) as error:
+        raise StageError("frames", str(error)) from error
+    reporter.finish()
+    print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
 def run_tool(command, stage):

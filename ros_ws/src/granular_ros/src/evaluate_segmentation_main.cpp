@@ -87,12 +87,8 @@ int main(int argc, char** argv) {
     config = box_free.segmentation();
     ground = box_free.ground();
     if (method) {
-      const auto chosen = granular::config::enumFromName<granular::SegmentationMethod>(*method);
-      if (!chosen) {
-        throw std::invalid_argument("--method: expected objects or occupancy, got '" + *method +
-                                    "'");
-      }
-      config.method = *chosen;
+      config.method =
+          granular_ros::parseChoice<granular::SegmentationMethod>("--method", *method);
     }
     if (!(options.max_distance >= 0.0) || !(options.half_field_of_view_deg > 0.0) ||
         !(options.max_range > 0.0)) {

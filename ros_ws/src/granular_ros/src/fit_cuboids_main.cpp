@@ -81,17 +81,6 @@ struct Options {
   bool overwrite = false;
 };
 
-// `name`'s value of enum E, or an error naming the option and the choices.
-template <typename E>
-E parseChoice(const std::string& option, const std::string& name) {
-  const std::optional<E> value = granular::config::enumFromName<E>(name);
-  if (!value) {
-    throw std::invalid_argument(option + ": expected " + granular::config::enumChoices<E>() +
-                                ", got '" + name + "'");
-  }
-  return *value;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -115,7 +104,8 @@ int main(int argc, char** argv) {
     config = granular_ros::buildConfig<granular::CuboidConfig>(
         options.config_file, [&](granular::CuboidConfig& cuboids) {
           if (options.method) {
-            cuboids.method = parseChoice<granular::CuboidMethod>("--method", *options.method);
+            cuboids.method =
+                granular_ros::parseChoice<granular::CuboidMethod>("--method", *options.method);
           }
           if (options.prior_classes) {
             cuboids.geometric.classes =
@@ -125,7 +115,7 @@ int main(int argc, char** argv) {
     run.ground = options.box_free.ground();
     run.segmentation = options.box_free.segmentation();
     if (options.boxes) {
-      run.boxes = parseChoice<granular::CuboidInputs>("--boxes", *options.boxes);
+      run.boxes = granular_ros::parseChoice<granular::CuboidInputs>("--boxes", *options.boxes);
     }
     if (options.classifier_file && run.boxes != granular::CuboidInputs::kSegments) {
       throw std::invalid_argument("--classifier decides on segments: it needs --boxes segment");

@@ -52,6 +52,18 @@ Config buildConfig(const std::optional<std::string>& file,
 }
 
 /// For --help: every key of a config file with its default and unit, one per line, indented.
+/// The value of a config enum E named `name` on the command line; otherwise an error naming
+/// `option` and the choices.
+template <typename E>
+E parseChoice(const std::string& option, const std::string& name) {
+  const std::optional<E> value = granular::config::enumFromName<E>(name);
+  if (!value) {
+    throw std::invalid_argument(option + ": expected " + granular::config::enumChoices<E>() +
+                                ", got '" + name + "'");
+  }
+  return *value;
+}
+
 template <typename Config>
 std::string configurationHelp(const Config& defaults = Config()) {
   std::string text;

@@ -1,5 +1,5 @@
-"""The labelling tool's pieces: box edits, the click fit, the detections file kept byte for
-byte, undo, and its config."""
+"""The labelling tool's pieces: box edits, the detections file kept byte for byte, undo, and
+its config. The click fit is granular_core's (test_click_fit.cpp)."""
 import json
 import math
 
@@ -7,11 +7,10 @@ import numpy as np
 import pytest
 
 from granular_tools.config_loading import ConfigError
-from granular_tools.evaluation.geometry import Cuboid, rotation_matrix, yaw_difference_deg
+from granular_tools.evaluation.geometry import Cuboid, rotation_matrix
 from granular_tools.labelling import boxes
 from granular_tools.labelling.config import LabellingConfig, load_config
 from granular_tools.labelling.document import FrameLabels, detection_spans, read_document
-from granular_tools.labelling.fit import FitSettings, fit_box_at_click, minimum_area_rectangle
 
 STAMP = "1586102742100000000"
 
@@ -89,78 +88,6 @@ def test_a_pose_rounded_through_rviz_float32_is_no_edit():
     position = tuple(float(np.float32(v)) for v in box.centre)
     quaternion = tuple(float(np.float32(v)) for v in box.quaternion)
     assert boxes.edited_by_pose(box, position, quaternion) is None
-
-
-# ------------------------------------------------------------------------------ the fit
-
-def car_points(centre, yaw, size, sides=("rear", "left"), step=0.1, ground=-1.7, seed=1):
-    """Points on the seen sides of an upright box standing on `ground`, and a ground disc."""
-    rng = np.random.default_rng(seed)
-    length, width, height = size
-    local = []
-    heights = np.arange(0.3, height, step)
-    if "rear" in sides:
-        local += [(-length / 2, y, z) for y in np.arange(-width / 2, width / 2, step)
-                  for z in heights]
-    if "left" in sides:
-        local += [(x, width / 2, z) for x in np.arange(-length / 2, length / 2, step)
-                  for z in heights]
-    local = np.array(local).reshape(-1, 3) + rng.normal(0.0, 0.01, (len(local), 3))
-    c, s = math.cos(yaw), math.sin(yaw)
-    xyz = local @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]) + \
-        np.array([centre[0], centre[1], ground])
-    road = np.c_[rng.uniform(-8, 8, (3000, 2)) + np.asarray(centre[:2]),
-                 np.full(3000, ground) + rng.normal(0, 0.02, 3000)]
-    return np.vstack([xyz, road])
-
-
-def test_the_minimum_area_rectangle_of_a_turned_rectangle_is_that_rectangle():
-    corners = np.array([[2, 1], [-2, 1], [-2, -1], [2, -1]], float)
-    turn = np.radians(20.0)
-    rotation = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
-    points = np.vstack([corners, np.random.default_rng(3).uniform(-0.9, 0.9, (50, 2))]) @ \
-        rotation.T + [5.0, -3.0]
-    centre, sides, angle = minimum_area_rectangle(points)
-    np.testing.assert_allclose(centre, [5.0, -3.0], atol=1e-9)
-    assert sorted(sides) == pytest.approx([2.0, 4.0])
-    assert math.degrees(angle) % 90.0 == pytest.approx(20.0)
-
-
-def test_a_car_seen_on_two_sides_gets_its_box():
-    size = (4.5, 1.8, 1.5)
-    xyz = car_points((12.0, -4.0), math.radians(10), size)
-    fit = fit_box_at_click(xyz, xyz[40], (4.5, 1.8, 1.5))  # a click on the rear
-    assert fit.ground == pytest.approx(-1.7, abs=0.05)
-    assert np.hypot(fit.box.centre[0] - 12.0, fit.box.centre[1] + 4.0) < 0.1
-    assert yaw_difference_deg(fit.box.yaw, math.radians(10)) < 1.0
-    np.testing.assert_allclose(fit.box.size, size, atol=0.12)
-    assert fit.box.centre[2] - fit.box.size[2] / 2 == pytest.approx(fit.ground)
-
-
-def test_a_car_seen_from_behind_only_grows_away_from_the_sensor():
-    xyz = car_points((12.0, 0.0), 0.0, (4.5, 1.8, 1.5), sides=("rear",))
-    fit = fit_box_at_click(xyz, xyz[40], (4.5, 1.8, 1.5))
-    assert yaw_difference_deg(fit.box.yaw, 0.0) < 1.0  # the rear is its width, not its length
-    assert fit.box.size[:2] == pytest.approx((4.5, 1.8), abs=0.12)
-    rear = 12.0 - 2.25
-    assert fit.box.centre[0] - fit.box.size[0] / 2 == pytest.approx(rear, abs=0.05)  # kept
-
-
-def test_too_few_points_give_the_class_default_on_the_ground_at_the_click():
-    road = car_points((0.0, 0.0), 0.0, (4.5, 1.8, 1.5), sides=())
-    fit = fit_box_at_click(road, (20.0, 3.0, -1.7), (0.8, 0.6, 1.75))
-    assert fit.points == 0
-    assert fit.box.size == (0.8, 0.6, 1.75)
-    assert fit.box.centre[:2] == (20.0, 3.0)
-    assert fit.box.centre[2] == pytest.approx(-1.7 + 1.75 / 2, abs=0.05)
-
-
-def test_a_neighbour_beyond_the_gap_is_not_part_of_the_object():
-    car = car_points((12.0, -4.0), 0.0, (4.5, 1.8, 1.5), seed=1)
-    wall = car_points((12.0, -6.5), 0.0, (12.0, 0.2, 2.5), sides=("left",), seed=2)
-    xyz = np.vstack([car, wall])
-    fit = fit_box_at_click(xyz, car[40], (4.5, 1.8, 1.5), FitSettings(gap=0.5))
-    assert fit.box.size[1] == pytest.approx(1.8, abs=0.12)
 
 
 # ------------------------------------------------------------------------------ the file
@@ -283,6 +210,6 @@ def test_the_shipped_config_is_the_defaults(repo_root):
 
 def test_config_errors_name_the_key(tmp_path):
     config = tmp_path / "labelling.yaml"
-    config.write_text("fit:\n  gap: -1\n")
-    with pytest.raises(ConfigError, match="fit.gap"):
+    config.write_text("handles:\n  width: -1\n")
+    with pytest.raises(ConfigError, match="handles.width"):
         load_config(config)

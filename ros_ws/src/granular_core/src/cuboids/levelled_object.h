@@ -3,6 +3,7 @@
 // box back in the sensor frame.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -13,6 +14,11 @@
 
 namespace granular {
 namespace cuboids {
+
+/// Per point, its bird's-eye cluster: cells of `gap` (x-y), touching cells (8 neighbours)
+/// joined. Clusters are numbered below points.size(), not consecutively.
+std::vector<std::size_t> birdsEyeClusters(const std::vector<Eigen::Vector3d>& points,
+                                          double gap);
 
 /// An object in the levelled frame: the ground is z = 0 and its normal z.
 struct LevelledObject {

@@ -45,25 +45,14 @@ std::uint64_t cellKey(std::int64_t column, std::int64_t row) {
 
 }  // namespace
 
-std::vector<Eigen::Vector3d> isolateObject(const std::vector<Eigen::Vector3d>& points,
-                                           const std::optional<GroundPlane>& ground,
-                                           const Eigen::Vector3d& centre,
-                                           const Eigen::Vector3d& size,
-                                           const CuboidConfig& config) {
-  std::vector<Eigen::Vector3d> candidates;
-  for (const Eigen::Vector3d& point : points) {
-    const double height = ground ? ground->heightOf(point) : config.points.min_height;
-    if (point.allFinite() && height >= config.points.min_height &&
-        height <= config.points.max_height) {
-      candidates.push_back(point);
-    }
-  }
-  // Occupied cells, and each candidate's cell.
-  const double gap = config.detections.cluster_gap;
+namespace cuboids {
+
+std::vector<std::size_t> birdsEyeClusters(const std::vector<Eigen::Vector3d>& points,
+                                          double gap) {
   std::unordered_map<std::uint64_t, std::size_t> cell_of_key;
   std::vector<std::pair<std::int64_t, std::int64_t>> cells;
   std::vector<std::size_t> cell_of_point;
-  for (const Eigen::Vector3d& point : candidates) {
+  for (const Eigen::Vector3d& point : points) {
     const auto column = static_cast<std::int64_t>(std::floor(point.x() / gap));
     const auto row = static_cast<std::int64_t>(std::floor(point.y() / gap));
     const auto [found, added] = cell_of_key.emplace(cellKey(column, row), cells.size());
@@ -83,26 +72,50 @@ std::vector<Eigen::Vector3d> isolateObject(const std::vector<Eigen::Vector3d>& p
       }
     }
   }
-  // Per cluster (its root cell): points, and points within the circle.
+  std::vector<std::size_t> cluster;
+  cluster.reserve(points.size());
+  for (const std::size_t cell : cell_of_point) {
+    cluster.push_back(components.find(cell));
+  }
+  return cluster;
+}
+
+}  // namespace cuboids
+
+std::vector<Eigen::Vector3d> isolateObject(const std::vector<Eigen::Vector3d>& points,
+                                           const std::optional<GroundPlane>& ground,
+                                           const Eigen::Vector3d& centre,
+                                           const Eigen::Vector3d& size,
+                                           const CuboidConfig& config) {
+  std::vector<Eigen::Vector3d> candidates;
+  for (const Eigen::Vector3d& point : points) {
+    const double height = ground ? ground->heightOf(point) : config.points.min_height;
+    if (point.allFinite() && height >= config.points.min_height &&
+        height <= config.points.max_height) {
+      candidates.push_back(point);
+    }
+  }
+  const std::vector<std::size_t> cluster =
+      cuboids::birdsEyeClusters(candidates, config.detections.cluster_gap);
+  // Per cluster: points, and points within the circle.
   const double radius = std::hypot(size.x(), size.y()) / 2;
-  std::vector<std::size_t> total(cells.size(), 0), inside(cells.size(), 0);
+  std::vector<std::size_t> total(candidates.size(), 0), inside(candidates.size(), 0);
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const std::size_t root = components.find(cell_of_point[i]);
-    ++total[root];
-    inside[root] += (candidates[i].head<2>() - centre.head<2>()).norm() <= radius;
+    ++total[cluster[i]];
+    inside[cluster[i]] += (candidates[i].head<2>() - centre.head<2>()).norm() <= radius;
   }
-  std::vector<bool> keep(cells.size(), false);
+  std::vector<bool> keep(candidates.size(), false);
   bool any = false;
-  for (std::size_t root = 0; root < cells.size(); ++root) {
-    keep[root] = 2 * inside[root] > total[root];
-    any = any || keep[root];
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    keep[c] = 2 * inside[c] > total[c];
+    any = any || keep[c];
   }
-  if (!any && !cells.empty()) {
+  if (!any && !candidates.empty()) {
     keep[std::max_element(inside.begin(), inside.end()) - inside.begin()] = true;
   }
   std::vector<Eigen::Vector3d> object;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (keep[components.find(cell_of_point[i])]) {
+    if (keep[cluster[i]]) {
       object.push_back(candidates[i]);
     }
   }

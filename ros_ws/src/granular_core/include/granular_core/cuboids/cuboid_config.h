@@ -172,6 +172,35 @@ struct DetectionPointsConfig {
   }
 };
 
+/// A new box where a user clicked on the cloud (label_cuboids, rviz's Publish Point;
+/// fitCuboidAtClick).
+struct ClickConfig {
+  /// m (x-y): the points around the click whose low heights tell the road's height ...
+  double ground_radius = 6.0;
+  /// %: ... this percentile of them, so that a few returns below the road do not count.
+  double ground_percentile = 5.0;
+  /// m (x-y) from the click: no object point is farther (or the class footprint's diagonal,
+  /// when longer, so that a click on one end reaches the other).
+  double reach = 4.0;
+  /// m, bird's-eye: points in touching cells of this size belong to one object.
+  double gap = 0.3;
+  /// m (x-y): the object is what connects to the points this near the click.
+  double seed_radius = 1.5;
+  /// Fewer object points: the class's size, on the ground, centred on the click.
+  std::size_t min_points = 10;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("ground_radius", self.ground_radius, positive("m"));
+    visit("ground_percentile", self.ground_percentile, interval(0, 100, "%"));
+    visit("reach", self.reach, positive("m"));
+    visit("gap", self.gap, positive("m"));
+    visit("seed_radius", self.seed_radius, positive("m"));
+    visit("min_points", self.min_points, atLeast(3, "points"));
+  }
+};
+
 /// The fitting method.
 enum class CuboidMethod {
   kGeometric,  ///< L-shape and size priors
@@ -197,6 +226,7 @@ struct CuboidConfig {
   std::map<std::string, SizePrior> priors = defaultSizePriors();
   GeometricFitConfig geometric;
   ModelFitConfig model;
+  ClickConfig click;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -207,6 +237,7 @@ struct CuboidConfig {
     visit("priors", self.priors);
     visit("geometric", self.geometric);
     visit("model", self.model);
+    visit("click", self.click);
   }
 };
 

@@ -3,7 +3,6 @@ import dataclasses
 import typing
 
 from ..config_loading import ConfigError, bounded, load_yaml_over
-from .fit import FitSettings
 
 
 @dataclasses.dataclass(frozen=True)
@@ -19,18 +18,20 @@ class HandleSettings:
     width: float = bounded(0.15, above=0.0)  # m: the arrow's shaft
 
 
-# KITTI's classes, then the simulator's: (length, width, height) m, (r, g, b).
+# KITTI's classes, then the simulator's: (length, width, height) m, (r, g, b). The vehicles'
+# sizes are config/cuboids.yaml's priors.
 _CLASSES = (
-    ("Car", (4.5, 1.8, 1.5), (0.2, 0.6, 1.0)), ("Van", (5.1, 2.0, 2.2), (0.3, 0.9, 0.3)),
-    ("Truck", (10.0, 2.6, 3.4), (0.75, 0.45, 1.0)),
+    ("Car", (3.88, 1.63, 1.53), (0.2, 0.6, 1.0)), ("Van", (5.07, 1.90, 2.21), (0.3, 0.9, 0.3)),
+    ("Truck", (10.14, 2.59, 3.25), (0.75, 0.45, 1.0)),
     ("Pedestrian", (0.8, 0.6, 1.75), (0.2, 1.0, 1.0)),
     ("Person_sitting", (0.8, 0.6, 1.3), (0.5, 1.0, 0.8)),
     ("Cyclist", (1.75, 0.6, 1.7), (1.0, 0.4, 0.7)), ("Tram", (15.0, 2.6, 3.5), (1.0, 0.95, 0.2)),
     ("Misc", (1.5, 1.5, 1.5), (0.8, 0.8, 0.8)),
-    ("Sedan", (4.6, 1.8, 1.45), (0.2, 0.6, 1.0)), ("SUV", (4.7, 1.9, 1.75), (0.3, 0.9, 0.3)),
-    ("Hatchback", (4.1, 1.75, 1.5), (1.0, 0.6, 0.1)), ("Jeep", (4.4, 1.9, 1.85), (1.0, 0.25, 0.25)),
-    ("BoxTruck", (7.5, 2.5, 3.3), (0.75, 0.45, 1.0)),
-    ("SchoolBus", (11.0, 2.5, 3.2), (1.0, 0.95, 0.2)),
+    ("Sedan", (4.60, 1.82, 1.45), (0.2, 0.6, 1.0)), ("SUV", (4.80, 1.94, 1.80), (0.3, 0.9, 0.3)),
+    ("Hatchback", (4.10, 1.78, 1.50), (1.0, 0.6, 0.1)),
+    ("Jeep", (4.42, 1.96, 1.85), (1.0, 0.25, 0.25)),
+    ("BoxTruck", (7.20, 2.40, 3.30), (0.75, 0.45, 1.0)),
+    ("SchoolBus", (11.00, 2.50, 3.10), (1.0, 0.95, 0.2)),
 )
 
 
@@ -44,7 +45,6 @@ class LabellingConfig:
     save_debounce: float = bounded(1.0, at_least=0.0)  # s after the last change of a frame
     min_size: float = bounded(0.1, above=0.0)  # m: no face drag makes a box thinner
     handles: HandleSettings = dataclasses.field(default_factory=HandleSettings)
-    fit: FitSettings = dataclasses.field(default_factory=FitSettings)
 
 
 def load_config(path=None):

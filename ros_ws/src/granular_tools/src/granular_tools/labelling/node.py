@@ -8,9 +8,9 @@ import sys
 import threading
 import time
 
-import numpy as np
 import rospy
-from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PointStamped, Vector3
+from granular_ros.srv import FitCuboid
 from interactive_markers.interactive_marker_server import InteractiveMarkerServer
 from interactive_markers.menu_handler import MenuHandler
 from sensor_msgs.msg import PointCloud2
@@ -18,19 +18,20 @@ from std_msgs.msg import String
 
 from ..bag_to_files import offline
 from ..bag_to_files.config import BagToFilesConfig
-from ..bag_to_files.pcd import CloudError, pcd_to_cloud, read_pcd
+from ..bag_to_files.pcd import CloudError, pcd_to_cloud
 from ..bags import BagError
 from ..config_loading import ConfigError
+from ..evaluation.geometry import Cuboid
 from ..output import OutputError, run_main
 from ..stages import resolve
 from .config import load_config
-from .fit import fit_box_at_click
 from .markers import (FRAME_MARKER, box_marker, handle_markers, split_handle_name,
                       title_marker)
 from .session import BACKUP_FOLDER, TOOL, Session
 
 COMMANDS = "next, previous, first, last, frame N|STAMP, undo, save, class LABEL"
 MENU_GROUP = 20  # entries per level of the "Jump to frame" menu
+FIT_SERVICE_WAIT = 5.0  # s the first click waits for the cuboid fitter to come up
 
 
 class UsageError(ValueError):
@@ -93,11 +94,12 @@ def frame_index(names, text):
     return None
 
 
-def finite_xyz(points):
-    if points.dtype.names is None or not all(a in points.dtype.names for a in "xyz"):
-        raise CloudError("the PCD has no x y z fields")
-    xyz = np.stack([points[a] for a in "xyz"], axis=1).astype(float)
-    return xyz[np.all(np.isfinite(xyz), axis=1)]
+def cuboid_of(detection):
+    """The Cuboid of a lgsvl_msgs/Detection3D's box."""
+    pose, size = detection.bbox.position, detection.bbox.size
+    return Cuboid((pose.position.x, pose.position.y, pose.position.z), (size.x, size.y, size.z),
+                  (pose.orientation.x, pose.orientation.y, pose.orientation.z,
+                   pose.orientation.w))
 
 
 class Labeller:
@@ -107,7 +109,7 @@ class Labeller:
     def __init__(self, session, config, frame_id):
         self.session, self.config, self.frame_id = session, config, frame_id
         self.lock = threading.RLock()
-        self.index, self.labels, self.xyz = 0, None, np.zeros((0, 3))
+        self.index, self.labels = 0, None
         self.selected = self.dragging = None
         self.new_class = next(iter(config.classes))
         self.due = {}  # stamp -> time its frame is saved
@@ -117,6 +119,8 @@ class Labeller:
         self.frame_publisher = rospy.Publisher("~frame", String, queue_size=1, latch=True)
         self.saved_publisher = rospy.Publisher("~saved", String, queue_size=20)
         self._make_menus()
+        self.fit_cuboid = rospy.ServiceProxy("fit_cuboid", FitCuboid)
+        self.fit_service_seen = False
         rospy.Subscriber("clicked_point", PointStamped, self.on_click, queue_size=10)
         rospy.Subscriber("~command", String, self.on_command, queue_size=10)
 
@@ -250,11 +254,8 @@ class Labeller:
         path = self.session.pcd_path(self.name())
         self.cloud_problem = None
         try:
-            _, points, _, _ = read_pcd(path)
-            self.xyz = finite_xyz(points)
             self.cloud_publisher.publish(pcd_to_cloud(path, self.frame_id, rospy.Time.now()))
         except (OSError, CloudError) as error:
-            self.xyz = np.zeros((0, 3))
             self.cloud_problem = str(error)
             rospy.logerr("%s: %s: %s", TOOL, path, error)
 
@@ -327,15 +328,28 @@ class Labeller:
                               "rviz's fixed frame to it)", TOOL, message.header.frame_id,
                               self.frame_id)
                 return
-            click = (message.point.x, message.point.y, message.point.z)
             size = self.config.classes[self.new_class].size
-            fit = fit_box_at_click(self.xyz, click, size, self.config.fit)
-            self.selected = self.labels.add(self.new_class, fit.box)
-            how = f"fitted to {fit.points} points" if fit.points else \
+            try:
+                if not self.fit_service_seen:
+                    rospy.wait_for_service(self.fit_cuboid.resolved_name, FIT_SERVICE_WAIT)
+                    self.fit_service_seen = True
+                cloud_file = os.path.abspath(self.session.pcd_path(self.name()))
+                reply = self.fit_cuboid(cloud_file=cloud_file, click=message.point,
+                                        label=self.new_class, size=Vector3(*size))
+            except (rospy.ROSException, rospy.ServiceException) as error:
+                rospy.logerr("%s: no new box: the cuboid fitter (%s, granular_ros's "
+                             "fit_cuboid_server, which label_cuboids.launch starts) did not "
+                             "answer: %s", TOOL, self.fit_cuboid.resolved_name, error)
+                return
+            if reply.error:
+                rospy.logerr("%s: no new box at the click: %s", TOOL, reply.error)
+                return
+            box = cuboid_of(reply.cuboid)
+            self.selected = self.labels.add(self.new_class, box)
+            how = f"fitted to {reply.points} points" if reply.points else \
                 "the class's default size: too few points near the click"
             rospy.loginfo("%s: new %s at (%.2f, %.2f), %.2f x %.2f x %.2f m, %s", TOOL,
-                          self.new_class, fit.box.centre[0], fit.box.centre[1], *fit.box.size,
-                          how)
+                          self.new_class, box.centre[0], box.centre[1], *box.size, how)
             self.changed()
 
     def on_command(self, message):

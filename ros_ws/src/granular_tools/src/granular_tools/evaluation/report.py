@@ -2,7 +2,9 @@
 
 Reads RESULTS/<method>/N<thresh>.json (one results file per method and test set) and writes
 OUT/summary.json, OUT/confusion/<method>-N<thresh>.png, OUT/precision_recall/<method>.png,
-OUT/accuracy.png and OUT/index.md, which puts them together with the model pictures.
+OUT/accuracy.png and OUT/index.md, which puts them together with the model pictures. Given the
+test objects (OBJECTS/N<thresh>/index.csv), the accuracies get 95 % intervals over instances
+(vehicles and pedestrians) and per-track accuracies beside them (instances.py).
 """
 import argparse
 import json
@@ -19,6 +21,7 @@ import numpy as np  # noqa: E402
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import object_label  # noqa: E402
 from ..output import OutputFolder, run_main, save_figure, write_file  # noqa: E402
+from .instances import FOUR_CARS, instance_scores, instances_of  # noqa: E402
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
 
 RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
@@ -96,8 +99,14 @@ def plot_accuracy(summary, path):
     figure, ax = plt.subplots(figsize=(6.5, 3.8))
     for method, by_threshold in sorted(summary.items()):
         thresholds = sorted(by_threshold, key=lambda k: int(k[1:]))
-        ax.plot([int(t[1:]) for t in thresholds], [by_threshold[t]["accuracy"] for t in
-                                                    thresholds], "o-", label=method)
+        accuracies = [by_threshold[t]["accuracy"] for t in thresholds]
+        intervals = [by_threshold[t].get("instances", {}).get("all") for t in thresholds]
+        errors = None
+        if all(intervals):  # the 95 % interval over instances
+            errors = np.array([[a - i["interval"][0], i["interval"][1] - a]
+                               for a, i in zip(accuracies, intervals)]).T.clip(min=0.0)
+        ax.errorbar([int(t[1:]) for t in thresholds], accuracies, yerr=errors, fmt="o-",
+                    capsize=3, label=method)
     ax.set_xscale("log")
     ax.set_xlabel("N_thresh (minimum points per object)")
     ax.set_ylabel("accuracy")
@@ -145,6 +154,39 @@ def plot_feature_distributions(objects_folder, classes, path):
     plt.close(figure)
 
 
+def _with_interval(value, interval):
+    return f"{value:.3f} [{interval[0]:.3f}, {interval[1]:.3f}]"
+
+
+def _instances_table(summary):
+    """index.md's table of accuracies over instances; none without them."""
+    rows = []
+    for method, by_threshold in sorted(summary.items()):
+        for key in sorted(by_threshold, key=lambda k: int(k[1:])):
+            instances = by_threshold[key].get("instances")
+            if not instances:
+                continue
+            cells = []
+            for part in ("all", "four_cars"):
+                scores = instances.get(part)
+                cells += [str(scores["instances"]), _with_interval(scores["accuracy"],
+                                                                    scores["interval"]),
+                          _with_interval(scores["per_track"], scores["per_track_interval"])] \
+                    if scores else ["-", "-", "-"]
+            rows.append(f"| {method} | {key[1:]} | " + " | ".join(cells) + " |")
+    if not rows:
+        return []
+    return ["", "## Over instances", "",
+            "A drive's objects are a few dozen vehicles and pedestrians (instances) seen in "
+            "many frames each. The brackets are 95 % intervals from a bootstrap over instances "
+            "(detection ids), not over objects; per track, each instance has one vote, its "
+            "most frequent prediction (a tie is wrong). The four cars are "
+            + ", ".join(FOUR_CARS) + ".", "",
+            "| method | N_thresh | instances | accuracy | per track | car instances "
+            "| four-car accuracy | four-car per track |",
+            "|---|---|---|---|---|---|---|---|"] + rows
+
+
 def write_index(out, summary, classes, model_pictures):
     lines = ["# Classification report", "",
              "Accuracy counts a missing prediction as wrong; coverage is the share of objects "
@@ -169,6 +211,7 @@ def write_index(out, summary, classes, model_pictures):
             lines.append(f"| {method} | {key[1:]} | {entry['objects']} | {entry['accuracy']:.3f} "
                          f"| {entry['macro_f1']:.3f} | {entry['coverage']:.3f} | {criteria} "
                          f"| {seconds} | {train} | {per_object} |")
+    lines += _instances_table(summary)
     for method, by_threshold in sorted(summary.items()):
         lines += ["", f"## {method}", "", f"![precision and recall]"
                   f"(precision_recall/{method}.png)", ""]
@@ -186,8 +229,17 @@ def write_index(out, summary, classes, model_pictures):
     write_file(os.path.join(out, "index.md"), ("\n".join(lines) + "\n").encode(), "index")
 
 
-def make_report(results_folder, out, model_pictures=None, feature_objects=None):
-    """Write the report into `out`, built in a sibling folder and renamed into place."""
+def scores_over_instances(result, objects_folder):
+    """summary.json's "instances" of a results file: instance_scores over all classes and over
+    the four cars (None without any)."""
+    instances = instances_of(objects_folder)
+    return {part: instance_scores(result["objects"], instances, result["primary"], classes)
+            for part, classes in (("all", None), ("four_cars", FOUR_CARS))}
+
+
+def make_report(results_folder, out, model_pictures=None, feature_objects=None, objects=None):
+    """Write the report into `out`, built in a sibling folder and renamed into place. `objects`:
+    the test objects folder (N<thresh>/index.csv), for the scores over instances."""
     found = discover(results_folder)
     results = {m: {t: load_results(p) for t, p in by_t.items()} for m, by_t in found.items()}
     classes = ordered_classes({r["true_label"] for by_t in results.values()
@@ -203,6 +255,9 @@ def make_report(results_folder, out, model_pictures=None, feature_objects=None):
             for threshold, result in sorted(by_threshold.items()):
                 key = f"N{threshold}"
                 summary[method][key] = summarise(result, classes)
+                if objects:
+                    summary[method][key]["instances"] = scores_over_instances(
+                        result, os.path.join(objects, key))
                 truth = [r["true_label"] for r in result["objects"]]
                 predicted = [r["predictions"].get(result["primary"]) for r in result["objects"]]
                 plot_confusion(confusion(truth, predicted, classes), classes,
@@ -233,13 +288,17 @@ def main(argv=None):
     parser.add_argument("--out", required=True, help="report folder (replaced if it is one)")
     parser.add_argument("--model-pictures", metavar="FOLDER",
                         help="render_models output to show in index.md")
+    parser.add_argument("--objects", metavar="FOLDER",
+                        help="the test objects folder (N<thresh>/index.csv, extract_objects'): "
+                             "95%% intervals over instances (detection ids) and per-track accuracy")
     parser.add_argument("--feature-objects", metavar="FOLDER",
                         help="training objects folder whose kNN features (mean and std of x, "
                              "y, z) to picture per class")
     args = parser.parse_args(argv)
 
     def body():
-        summary = make_report(args.results, args.out, args.model_pictures, args.feature_objects)
+        summary = make_report(args.results, args.out, args.model_pictures, args.feature_objects,
+                              args.objects)
         for method, by_threshold in sorted(summary.items()):
             cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
                               sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))

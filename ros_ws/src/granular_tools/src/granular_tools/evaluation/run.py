@@ -5,7 +5,8 @@ OUT/test     run_pipeline on the test bag (frames, objects at every N_thresh)
 OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train drive's objects
 OUT/results  <method>[_<preset>]/N<thresh>.json from the classify tools (no suffix for the
              report's preset)
-OUT/report   make_report: summary.json, confusion matrices, plots, index.md
+OUT/report   make_report: summary.json, confusion matrices, plots, index.md; intervals and
+             per-track accuracy over the test drive's vehicles
 """
 import argparse
 import os
@@ -101,7 +102,8 @@ def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir,
         try:
             return report.make_report(results, os.path.join(out, "report"),
                                       os.path.join(models, "pictures"),
-                                      train_objects if "knn" in supervised else None)
+                                      train_objects if "knn" in supervised else None,
+                                      test_run.objects_folder)
         except (ResultsError, CloudError, OutputError) as error:
             raise StageError("report (make_report)", str(error)) from error
 

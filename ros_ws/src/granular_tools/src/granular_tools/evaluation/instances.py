@@ -1,0 +1,87 @@
+"""Scores over the vehicles behind a test set's objects, not over its objects alone.
+
+A drive holds a few dozen vehicles, each seen in dozens of frames: its objects are a small,
+correlated sample. So the 95 % interval of an accuracy comes from a bootstrap over vehicle
+instances (detection ids, from the objects folder's index.csv): each resample draws as many
+instances as there are, with replacement, and takes the accuracy over all their objects. The
+per-track accuracy gives each instance one vote, its most frequent prediction (a tie at the top
+counts as wrong: the vote did not decide). The four car classes, which are what tells this
+work apart, are scored on their own beside all classes (docs/classification.md).
+"""
+import csv
+import os
+from collections import Counter
+
+import numpy as np
+
+from .metrics import ResultsError
+
+FOUR_CARS = ("Sedan", "SUV", "Hatchback", "Jeep")
+RESAMPLES = 1000  # bootstrap resamples; the interval's ends move by about 0.002 between seeds
+LEVEL = 0.95
+
+
+def instances_of(objects_folder):
+    """{object file name: instance key} from `objects_folder`/index.csv (extract_objects'),
+    the key being the label and the detection id."""
+    path = os.path.join(objects_folder, "index.csv")
+    try:
+        with open(path, newline="", encoding="utf-8") as stream:
+            return {row["file"]: f"{row['label']}#{row['detection_id']}"
+                    for row in csv.DictReader(stream)}
+    except (OSError, KeyError, csv.Error) as error:
+        raise ResultsError(f"{path}: no objects index with file, label and detection_id "
+                           f"({error})") from error
+
+
+def bootstrap_interval(correct_per_group, resamples=RESAMPLES, seed=0, level=LEVEL):
+    """(low, high): the `level` percentile interval of the pooled accuracy when the groups (a
+    list of per-object 0/1 lists, one per instance) are resampled with replacement."""
+    if not correct_per_group:
+        return (0.0, 0.0)
+    hits = np.array([sum(group) for group in correct_per_group], float)
+    sizes = np.array([len(group) for group in correct_per_group], float)
+    draws = np.random.default_rng(seed).integers(0, len(hits), (resamples, len(hits)))
+    accuracies = hits[draws].sum(axis=1) / sizes[draws].sum(axis=1)
+    tail = (1.0 - level) / 2.0 * 100.0
+    low, high = np.percentile(accuracies, [tail, 100.0 - tail])
+    return (float(low), float(high))
+
+
+def track_vote(true_label, predictions):
+    """Whether an instance's vote (its most frequent prediction; None is a prediction of
+    nothing) is its true label; a tie at the top is no decision, so wrong."""
+    counts = Counter(predictions).most_common()
+    top = [label for label, count in counts if count == counts[0][1]]
+    return len(top) == 1 and top[0] == true_label
+
+
+def instance_scores(records, instances, primary, classes=None, resamples=RESAMPLES, seed=0):
+    """Accuracy with its interval over instances, and the per-track accuracy with its own
+    (tracks resampled), of the results `records` whose true label is in `classes` (all when
+    None); None when there are none. `instances` maps an object's file name to its instance;
+    an object missing from it is a ResultsError."""
+    groups = {}
+    for record in records:
+        if classes is not None and record["true_label"] not in classes:
+            continue
+        name = os.path.basename(record["file"])
+        if name not in instances:
+            raise ResultsError(f"{name}: not in the objects index")
+        groups.setdefault(instances[name], []).append(record)
+    if not groups:
+        return None
+    correct = [[r["predictions"].get(primary) == r["true_label"] for r in group]
+               for group in groups.values()]
+    votes = [[track_vote(group[0]["true_label"],
+                         [r["predictions"].get(primary) for r in group])]
+             for group in groups.values()]
+    objects = sum(len(c) for c in correct)
+    return {
+        "instances": len(groups),
+        "objects": objects,
+        "accuracy": sum(map(sum, correct)) / objects,
+        "interval": bootstrap_interval(correct, resamples, seed),
+        "per_track": sum(v[0] for v in votes) / len(votes),
+        "per_track_interval": bootstrap_interval(votes, resamples, seed),
+    }

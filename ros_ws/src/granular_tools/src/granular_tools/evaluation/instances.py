@@ -34,18 +34,38 @@ def instances_of(objects_folder):
                            f"({error})") from error
 
 
+def _resampled_accuracies(correct_per_group, resamples, rng):
+    """The pooled accuracy of `resamples` draws of the groups with replacement."""
+    hits = np.array([sum(group) for group in correct_per_group], float)
+    sizes = np.array([len(group) for group in correct_per_group], float)
+    draws = rng.integers(0, len(hits), (resamples, len(hits)))
+    return hits[draws].sum(axis=1) / sizes[draws].sum(axis=1)
+
+
+def _percentiles(values, level):
+    tail = (1.0 - level) / 2.0 * 100.0
+    low, high = np.percentile(values, [tail, 100.0 - tail])
+    return (float(low), float(high))
+
+
 def bootstrap_interval(correct_per_group, resamples=RESAMPLES, seed=0, level=LEVEL):
     """(low, high): the `level` percentile interval of the pooled accuracy when the groups (a
     list of per-object 0/1 lists, one per instance) are resampled with replacement."""
     if not correct_per_group:
         return (0.0, 0.0)
-    hits = np.array([sum(group) for group in correct_per_group], float)
-    sizes = np.array([len(group) for group in correct_per_group], float)
-    draws = np.random.default_rng(seed).integers(0, len(hits), (resamples, len(hits)))
-    accuracies = hits[draws].sum(axis=1) / sizes[draws].sum(axis=1)
-    tail = (1.0 - level) / 2.0 * 100.0
-    low, high = np.percentile(accuracies, [tail, 100.0 - tail])
-    return (float(low), float(high))
+    rng = np.random.default_rng(seed)
+    return _percentiles(_resampled_accuracies(correct_per_group, resamples, rng), level)
+
+
+def mean_interval(groups_per_run, resamples=RESAMPLES, seed=0, level=LEVEL):
+    """(low, high) of the mean over independent runs (drive pairs) of their accuracies, each
+    run's instances resampled on their own: `groups_per_run` holds one groups list (as
+    bootstrap_interval takes) per run."""
+    rng = np.random.default_rng(seed)
+    runs = [_resampled_accuracies(groups, resamples, rng) for groups in groups_per_run if groups]
+    if not runs:
+        return (0.0, 0.0)
+    return _percentiles(np.mean(runs, axis=0), level)
 
 
 def track_vote(true_label, predictions):
@@ -56,10 +76,10 @@ def track_vote(true_label, predictions):
     return len(top) == 1 and top[0] == true_label
 
 
-def instance_scores(records, instances, primary, classes=None, resamples=RESAMPLES, seed=0):
-    """Accuracy with its interval over instances, and the per-track accuracy with its own
-    (tracks resampled), of the results `records` whose true label is in `classes` (all when
-    None); None when there are none. `instances` maps an object's file name to its instance;
+def instance_groups(records, instances, primary, classes=None):
+    """(correct, votes) of the results `records` whose true label is in `classes` (all when
+    None): per instance, the 0/1 of its objects, and the 0/1 of its track's vote (a one-item
+    list); None when there are none. `instances` maps an object's file name to its instance;
     an object missing from it is a ResultsError."""
     groups = {}
     for record in records:
@@ -76,12 +96,25 @@ def instance_scores(records, instances, primary, classes=None, resamples=RESAMPL
     votes = [[track_vote(group[0]["true_label"],
                          [r["predictions"].get(primary) for r in group])]
              for group in groups.values()]
-    objects = sum(len(c) for c in correct)
+    return correct, votes
+
+
+def accuracy(groups):
+    return sum(map(sum, groups)) / sum(map(len, groups))
+
+
+def instance_scores(records, instances, primary, classes=None, resamples=RESAMPLES, seed=0):
+    """Accuracy with its interval over instances, and the per-track accuracy with its own
+    (tracks resampled), as instance_groups selects them; None when there are none."""
+    grouped = instance_groups(records, instances, primary, classes)
+    if grouped is None:
+        return None
+    correct, votes = grouped
     return {
-        "instances": len(groups),
-        "objects": objects,
-        "accuracy": sum(map(sum, correct)) / objects,
+        "instances": len(correct),
+        "objects": sum(map(len, correct)),
+        "accuracy": accuracy(correct),
         "interval": bootstrap_interval(correct, resamples, seed),
-        "per_track": sum(v[0] for v in votes) / len(votes),
+        "per_track": accuracy(votes),
         "per_track_interval": bootstrap_interval(votes, resamples, seed),
     }

@@ -1,0 +1,204 @@
+"""evaluate_many: the evaluation over several independent train/test drive pairs, pooled.
+
+OUT/pair-<train seed>-<test seed>/{train,test}.bag   simulate_drive
+OUT/pair-<train seed>-<test seed>/evaluation         run_evaluation (models, results, report)
+OUT/summary.json, OUT/index.md                       per method and N_thresh: the mean over the
+                                                     pairs and its 95 % interval, per object and
+                                                     per track, all classes and the four cars
+
+One drive pair is a small, correlated sample (instances.py); independent pairs are what makes
+a mean mean something. A pair whose evaluation is complete is reused, so that an interrupted
+run goes on where it stopped (--overwrite runs every pair again).
+"""
+import argparse
+import json
+import os
+import time
+
+from ..output import OutputError, run_main, write_atomically
+from ..stages import StageError, bad_argument, resolve, run_tool
+from . import run
+from .instances import FOUR_CARS, accuracy, instance_groups, instances_of, mean_interval
+from .metrics import ResultsError, load_results
+
+DEFAULT_PAIRS = "1:2,101:202,11:22"
+PARTS = (("all", None), ("four_cars", FOUR_CARS))
+
+
+def parse_pairs(text):
+    """[(train seed, test seed), ...] of "1:2,101:202"; ValueError for anything else."""
+    pairs = []
+    for item in (i for i in text.split(",") if i.strip()):
+        seeds = item.split(":")
+        if len(seeds) != 2 or not all(s.strip().isdigit() for s in seeds):
+            raise ValueError(f"--pairs: '{item}' is not TRAIN_SEED:TEST_SEED")
+        train, test = (int(s) for s in seeds)
+        if train == test:
+            raise ValueError(f"--pairs: '{item}': the test drive must not be the train drive")
+        pairs.append((train, test))
+    if not pairs:
+        raise ValueError("--pairs: at least one TRAIN_SEED:TEST_SEED is needed")
+    return pairs
+
+
+def pair_folder(out, pair):
+    return os.path.join(out, f"pair-{pair[0]}-{pair[1]}")
+
+
+def evaluate_pair(out, pair, duration, args):
+    """The pair's bags (simulated when missing) and its evaluation (run when not complete)."""
+    folder = pair_folder(out, pair)
+    os.makedirs(folder, exist_ok=True)
+    bags = {}
+    for role, seed in zip(("train", "test"), pair):
+        bags[role] = os.path.join(folder, f"{role}.bag")
+        if args.overwrite or not os.path.exists(bags[role]):
+            run_tool(["rosrun", "granular_tools", "simulate_drive", "--out", bags[role],
+                      "--duration", str(duration), "--seed", str(seed), "--quiet"],
+                     f"simulate_drive (seed {seed})")
+    evaluation = os.path.join(folder, "evaluation")
+    if not args.overwrite and os.path.exists(os.path.join(evaluation, "report", "summary.json")):
+        print(f"evaluate_many: pair {pair[0]}:{pair[1]}: reusing {evaluation}", flush=True)
+        return evaluation
+    command = ["rosrun", "granular_tools", "run_evaluation", "--train-bag", bags["train"],
+               "--test-bag", bags["test"], "--out", evaluation, "--methods", args.methods,
+               "--supervised", args.supervised, "--presets", args.presets,
+               "--n-thresh", args.n_thresh, "--overwrite"]
+    command += ["--config-dir", args.config_dir] if args.config_dir else []
+    run_tool(command, f"run_evaluation (pair {pair[0]}:{pair[1]})")
+    return evaluation
+
+
+def pooled_summary(evaluations, thresholds):
+    """{method: {N<thresh>: {part: scores}}} over the pairs' evaluations: per part (all
+    classes, the four cars) the accuracy of each pair, their mean and its interval, and the
+    same per track."""
+    summary = {}
+    for evaluation in evaluations:
+        results_folder = os.path.join(evaluation, "results")
+        for method in sorted(os.listdir(results_folder)):
+            for threshold in thresholds:
+                path = os.path.join(results_folder, method, f"N{threshold}.json")
+                if not os.path.exists(path):
+                    continue
+                results = load_results(path)
+                instances = instances_of(os.path.join(evaluation, "test", "objects",
+                                                      f"N{threshold}"))
+                entry = summary.setdefault(method, {}).setdefault(f"N{threshold}", {})
+                for part, classes in PARTS:
+                    grouped = instance_groups(results["objects"], instances, results["primary"],
+                                              classes)
+                    if grouped:
+                        runs = entry.setdefault(part, {"correct": [], "votes": []})
+                        runs["correct"].append(grouped[0])
+                        runs["votes"].append(grouped[1])
+    for by_threshold in summary.values():
+        for entry in by_threshold.values():
+            for part, runs in entry.items():
+                per_pair = [accuracy(groups) for groups in runs["correct"]]
+                per_track = [accuracy(groups) for groups in runs["votes"]]
+                entry[part] = {
+                    "pairs": len(per_pair),
+                    "instances": sum(len(groups) for groups in runs["correct"]),
+                    "per_pair": per_pair,
+                    "mean": sum(per_pair) / len(per_pair),
+                    "interval": mean_interval(runs["correct"]),
+                    "per_track_per_pair": per_track,
+                    "per_track_mean": sum(per_track) / len(per_track),
+                    "per_track_interval": mean_interval(runs["votes"]),
+                }
+    return summary
+
+
+def _cell(value, interval):
+    return f"{value:.3f} [{interval[0]:.3f}, {interval[1]:.3f}]"
+
+
+def index_markdown(summary, pairs, duration):
+    lines = ["# Evaluation over drive pairs", "",
+             f"{len(pairs)} independent train/test drive pairs of {duration:g} s (seeds "
+             + ", ".join(f"{a}:{b}" for a, b in pairs) + "). Accuracy is the mean over the "
+             "pairs (criterion 2 for registration), with a 95 % interval from a bootstrap "
+             "over each pair's instances (detection ids); per track, each instance has one "
+             "vote. The four cars are " + ", ".join(FOUR_CARS) + ". Each pair's own report: "
+             "pair-*/evaluation/report/index.md.", "",
+             "| method | N_thresh | instances | accuracy | per track | four-car accuracy "
+             "| four cars per track | accuracy per pair |", "|---|---|---|---|---|---|---|---|"]
+    for method, by_threshold in sorted(summary.items()):
+        for key in sorted(by_threshold, key=lambda k: int(k[1:])):
+            entry = by_threshold[key]
+            everything, cars = entry.get("all"), entry.get("four_cars")
+            if not everything:
+                continue
+            car_cells = [_cell(cars["mean"], cars["interval"]),
+                         _cell(cars["per_track_mean"], cars["per_track_interval"])] \
+                if cars else ["-", "-"]
+            lines.append(" | ".join([
+                f"| {method}", key[1:], str(everything["instances"]),
+                _cell(everything["mean"], everything["interval"]),
+                _cell(everything["per_track_mean"], everything["per_track_interval"]),
+                *car_cells, ", ".join(f"{a:.3f}" for a in everything["per_pair"])]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="evaluate_many",
+        description="Simulate several independent train/test drive pairs, run the evaluation "
+                    "(run_evaluation) on each, and pool them: per method and N_thresh the "
+                    "mean accuracy over the pairs with a 95%% interval from a bootstrap over "
+                    "each pair's vehicle instances, per object and per track, for all classes "
+                    "and the four cars (OUT/index.md, OUT/summary.json). A pair already "
+                    "evaluated in OUT is reused.")
+    parser.add_argument("--out", required=True, help="output folder")
+    parser.add_argument("--pairs", default=DEFAULT_PAIRS, metavar="TRAIN:TEST,...",
+                        help="simulator seeds of the train and test drive of each pair "
+                             "(default: %(default)s)")
+    parser.add_argument("--duration", type=float, default=60.0, metavar="SECONDS",
+                        help="length of each drive (default: %(default)s)")
+    parser.add_argument("--methods", default=",".join(run.REGISTRATION_METHODS),
+                        help="registration methods (default: %(default)s)")
+    parser.add_argument("--supervised", default=",".join(run.DEFAULT_SUPERVISED),
+                        help="supervised methods; '' for none (default: %(default)s)")
+    parser.add_argument("--presets", default="tuned",
+                        help="registration presets (default: %(default)s; the report's never "
+                             "converges by criterion 2)")
+    parser.add_argument("--n-thresh", default="10,100", metavar="N,N,...",
+                        help="N_thresh values (default: %(default)s)")
+    parser.add_argument("--config-dir", metavar="FOLDER",
+                        help="configuration folder for run_evaluation")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="simulate and evaluate every pair again")
+    args = parser.parse_args(argv)
+    started = time.monotonic()
+
+    def body():
+        try:
+            pairs = parse_pairs(args.pairs)
+            thresholds = [int(t) for t in args.n_thresh.split(",") if t.strip()]
+        except ValueError as error:
+            raise bad_argument(str(error)) from error
+        if args.duration <= 0 or not thresholds or min(thresholds) < 1:
+            raise bad_argument("--duration and every --n-thresh must be positive")
+        out = resolve(args.out)
+        args.config_dir = resolve(args.config_dir)
+        evaluations = []
+        for number, pair in enumerate(pairs, 1):
+            print(f"evaluate_many: pair {number}/{len(pairs)}: train seed {pair[0]}, test seed "
+                  f"{pair[1]} ({time.monotonic() - started:.0f} s)", flush=True)
+            evaluations.append(evaluate_pair(out, pair, args.duration, args))
+        try:
+            summary = pooled_summary(evaluations, thresholds)
+        except ResultsError as error:
+            raise StageError("pooling", str(error)) from error
+        write_atomically(os.path.join(out, "summary.json"), json.dumps(
+            {"pairs": pairs, "duration": args.duration, "methods": summary}, indent=2).encode(),
+            "summary")
+        index = index_markdown(summary, pairs, args.duration)
+        write_atomically(os.path.join(out, "index.md"), index.encode(), "index")
+        print(index)
+        print(f"evaluate_many: done in {time.monotonic() - started:.0f} s: "
+              f"{os.path.join(out, 'index.md')}")
+        return 0
+
+    return run_main("evaluate_many", body, (StageError, OutputError, OSError))

@@ -108,6 +108,13 @@ def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir,
             raise StageError("report (make_report)", str(error)) from error
 
 
+def accuracy_text(entry):
+    """"0.846 [0.786, 0.898]": a summary entry's accuracy and its interval over instances."""
+    interval = (entry.get("instances") or {}).get("all")
+    bounds = f" [{interval['interval'][0]:.3f}, {interval['interval'][1]:.3f}]" if interval else ""
+    return f"{entry['accuracy']:.3f}{bounds}"
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="run_evaluation",
@@ -143,9 +150,10 @@ def main(argv=None):
                            resolve(args.config_dir, args.relative_to), args.overwrite,
                            [m for m in args.supervised.split(",") if m])
         for method, by_threshold in sorted(summary.items()):
-            cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
+            cells = ", ".join(f"{k} {accuracy_text(v)}" for k, v in
                               sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))
             print(f"run_evaluation: {method}: accuracy {cells}")
+        print("run_evaluation: [95 % interval over the test drive's vehicles and pedestrians]")
         print(f"run_evaluation: done in {time.monotonic() - started:.1f} s; report: "
               f"{os.path.join(out, 'report', 'index.md')}")
         return 0

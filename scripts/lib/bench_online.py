@@ -28,6 +28,8 @@ def main():
                         help="playback speed factor (default %(default)s); a method slower than "
                              "the frames come drops some (answered < frames)")
     parser.add_argument("--methods", default="svm,knn,icp,ndt")
+    parser.add_argument("--track-vote", choices=("true", "false"), default="true",
+                        help="online.launch's track_vote (default %(default)s)")
     args = parser.parse_args()
     bag = os.path.join(args.evaluation, "..", "test.bag")
     # The frames with detections (bag_to_files kept them): each should get an answer.
@@ -48,7 +50,8 @@ def main():
         monitor = OnlineMonitor()
         subprocess.run(["roslaunch", args.launch, f"bag:={bag}", f"method:={method}",
                         f"models:={models_of(args.evaluation, method)}", "rviz:=false",
-                        f"rate:={args.rate}", "exit_when_done:=true"],
+                        f"rate:={args.rate}", f"track_vote:={args.track_vote}",
+                        "exit_when_done:=true"],
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(1.0)
         monitor.close()

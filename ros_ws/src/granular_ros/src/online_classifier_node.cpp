@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <granular_core/online/object_classifier.h>
+#include <granular_core/online/track_votes.h>
 #include <granular_core/extraction/extract_objects.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <message_filters/subscriber.h>
@@ -55,6 +56,8 @@ struct OnlineClassifierParameters {
   double topic_timeout = 5.0;
   double report_interval = 10.0;
   double marker_lifetime = 0.5;
+  bool track_vote = true;
+  double track_forget = 2.0;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -72,6 +75,8 @@ struct OnlineClassifierParameters {
     visit("topic_timeout", self.topic_timeout, positive("s"));
     visit("report_interval", self.report_interval, positive("s"));
     visit("marker_lifetime", self.marker_lifetime, nonNegative("s"));
+    visit("track_vote", self.track_vote);
+    visit("track_forget", self.track_forget, positive("s"));
   }
 };
 
@@ -119,6 +124,9 @@ class OnlineClassifier {
       : classifier_(makeClassifier(parameters)),
         min_points_(parameters.min_points),
         marker_lifetime_(parameters.marker_lifetime),
+        track_votes_(parameters.track_vote
+                         ? std::optional<granular::TrackVotes>(parameters.track_forget)
+                         : std::nullopt),
         topic_timeout_(parameters.topic_timeout),
         report_interval_(parameters.report_interval),
         tf_listener_(tf_buffer_),
@@ -192,12 +200,21 @@ class OnlineClassifier {
     const std::vector<granular::ObjectPrediction> predictions = classifier_.classify(objects);
 
     std::vector<std::string> truth;
+    const double stamp = cloud_message->header.stamp.toSec();
     for (lgsvl_msgs::Detection3D& detection : output.detections) {
       truth.push_back(detection.label == "unknown" ? "" : detection.label);
       const auto object = object_of_id.find(detection.id);
       const bool known = object != object_of_id.end() && predictions[object->second].classified;
       detection.label = known ? predictions[object->second].label : "unknown";
       detection.score = known ? static_cast<float>(predictions[object->second].score) : 0.0f;
+      if (known && track_votes_) {
+        const granular::TrackLabel track = track_votes_->vote(detection.id, detection.label, stamp);
+        detection.label = track.label;
+        detection.score = static_cast<float>(track.share);
+      }
+    }
+    if (track_votes_) {
+      track_votes_->forget(stamp);
     }
     output.header.stamp = cloud_message->header.stamp;
     output.header.frame_id = cloud_message->header.frame_id;
@@ -269,6 +286,8 @@ class OnlineClassifier {
   granular::ExtractionConfig extraction_;
   std::size_t min_points_;
   double marker_lifetime_;
+  // One vote per frame per detection id (~track_vote); unset: each frame's own label.
+  std::optional<granular::TrackVotes> track_votes_;
   double topic_timeout_;
   double report_interval_;
   tf2_ros::Buffer tf_buffer_;

@@ -59,17 +59,22 @@ TEST_F(RegistrationTest, TheReportsSingleIterationNeverConverges) {
   }
 }
 
-TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
-  // The views, and the same views turned about z by a few degrees, which NDT and ICP take
-  // several steps (and NDT's line search several trials) to undo.
-  std::vector<ModelCloud> objects = objects_;
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
+// The views, and the same views turned about z by a few degrees, which NDT and ICP take
+// several steps (and NDT's line search several trials) to undo.
+std::vector<ModelCloud> withTurnedCopies(const std::vector<ModelCloud>& views) {
+  std::vector<ModelCloud> objects = views;
+  for (std::size_t i = 0; i < views.size(); ++i) {
     ModelCloud turned;
     const Eigen::Affine3f turn(Eigen::AngleAxisf(0.03f * static_cast<float>(i % 4 + 1),
                                                  Eigen::Vector3f::UnitZ()));
-    pcl::transformPointCloud(objects_[i], turned, turn);
+    pcl::transformPointCloud(views[i], turned, turn);
     objects.push_back(turned);
   }
+  return objects;
+}
+
+TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
+  const std::vector<ModelCloud> objects = withTurnedCopies(objects_);
   int several_steps = 0;
   RegistrationClassifierConfig fine_ndt = converging();
   fine_ndt.ndt.resolution = 0.2;
@@ -105,14 +110,7 @@ TEST_F(RegistrationTest, IcpNlPredictsAsTheReportsLoopWithAnExactStep) {
   // ICP-NL's step here is an analytic Levenberg-Marquardt in double; PCL's (the report's loop)
   // is numerical and stops at float's tolerance. Both minimise the same sum, so on the views
   // and their turned copies they converge alike and pick the same classes.
-  std::vector<ModelCloud> objects = objects_;
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
-    ModelCloud turned;
-    const Eigen::Affine3f turn(Eigen::AngleAxisf(0.03f * static_cast<float>(i % 4 + 1),
-                                                 Eigen::Vector3f::UnitZ()));
-    pcl::transformPointCloud(objects_[i], turned, turn);
-    objects.push_back(turned);
-  }
+  const std::vector<ModelCloud> objects = withTurnedCopies(objects_);
   for (const RegistrationClassifierConfig& config :
        {RegistrationClassifierConfig(), converging()}) {
     const RegistrationClassifier classifier(RegistrationMethod::kIcpNl, config, models_);

@@ -45,7 +45,9 @@ def parse_args(argv):
                     "with rviz): every box of a frames folder (pcd/<stamp>.pcd, "
                     "detections_3d/<stamp>.json, as bag_to_files writes it) as an interactive "
                     "marker to move, turn, resize face by face, relabel and delete; new boxes "
-                    "from a click with rviz's Publish Point tool; frame by frame, with undo. "
+                    "from a click with rviz's Publish Point tool, fitted by granular_ros's "
+                    "fit_cuboid_server (service fit_cuboid; the launch file starts it); frame "
+                    "by frame, with undo. "
                     "Each frame is saved into its detections_3d/<stamp>.json (atomically, "
                     "about a second after the last change, on leaving the frame, on request "
                     "and at the end), keeping every detection not edited byte for byte; the "
@@ -71,8 +73,8 @@ def parse_args(argv):
                         help="make FOLDER from this bag with bag_to_files first, unless FOLDER "
                              "already holds frames")
     parser.add_argument("--config", metavar="FILE.yaml",
-                        help="classes, sizes, handles and the click fit, laid over the "
-                             "defaults (config/labelling.yaml)")
+                        help="classes, sizes and handles, laid over the defaults "
+                             "(config/labelling.yaml)")
     parser.add_argument("--frame-id", default="velodyne",
                         help="frame of the clouds and boxes, rviz's fixed frame "
                              "(default: %(default)s)")

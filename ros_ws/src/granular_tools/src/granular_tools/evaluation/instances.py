@@ -17,6 +17,8 @@ import numpy as np
 from .metrics import ResultsError
 
 FOUR_CARS = ("Sedan", "SUV", "Hatchback", "Jeep")
+# The parts a result is scored on: every class (None), and the four cars.
+PARTS = (("all", None), ("four_cars", FOUR_CARS))
 RESAMPLES = 1000  # bootstrap resamples; the interval's ends move by about 0.002 between seeds
 LEVEL = 0.95
 
@@ -51,21 +53,23 @@ def _percentiles(values, level):
 def bootstrap_interval(correct_per_group, resamples=RESAMPLES, seed=0, level=LEVEL):
     """(low, high): the `level` percentile interval of the pooled accuracy when the groups (a
     list of per-object 0/1 lists, one per instance) are resampled with replacement."""
-    if not correct_per_group:
-        return (0.0, 0.0)
-    rng = np.random.default_rng(seed)
-    return _percentiles(_resampled_accuracies(correct_per_group, resamples, rng), level)
+    return mean_interval([correct_per_group], resamples, seed, level)
 
 
 def mean_interval(groups_per_run, resamples=RESAMPLES, seed=0, level=LEVEL):
     """(low, high) of the mean over independent runs (drive pairs) of their accuracies, each
     run's instances resampled on their own: `groups_per_run` holds one groups list (as
-    bootstrap_interval takes) per run."""
+    bootstrap_interval takes) per run; (0, 0) without any."""
     rng = np.random.default_rng(seed)
     runs = [_resampled_accuracies(groups, resamples, rng) for groups in groups_per_run if groups]
     if not runs:
         return (0.0, 0.0)
     return _percentiles(np.mean(runs, axis=0), level)
+
+
+def with_interval(value, interval):
+    """"0.846 [0.786, 0.898]": an accuracy and its interval, as the reports print them."""
+    return f"{value:.3f} [{interval[0]:.3f}, {interval[1]:.3f}]"
 
 
 def track_vote(true_label, predictions):

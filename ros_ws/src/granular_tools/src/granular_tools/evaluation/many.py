@@ -18,11 +18,11 @@ import time
 from ..output import OutputError, run_main, write_atomically
 from ..stages import StageError, bad_argument, resolve, run_tool
 from . import run
-from .instances import FOUR_CARS, accuracy, instance_groups, instances_of, mean_interval
+from .instances import (FOUR_CARS, PARTS, accuracy, instance_groups, instances_of,
+                        mean_interval, with_interval)
 from .metrics import ResultsError, load_results
 
 DEFAULT_PAIRS = "1:2,101:202,11:22"
-PARTS = (("all", None), ("four_cars", FOUR_CARS))
 
 
 def parse_pairs(text):
@@ -69,11 +69,28 @@ def evaluate_pair(out, pair, duration, args):
     return evaluation
 
 
+def _pooled(correct, votes):
+    """The scores of one method, N_thresh and part over the pairs, from each pair's
+    instance_groups (per-object and per-track 0/1 lists per instance)."""
+    per_pair = [accuracy(groups) for groups in correct]
+    per_track = [accuracy(groups) for groups in votes]
+    return {
+        "pairs": len(per_pair),
+        "instances": sum(len(groups) for groups in correct),
+        "per_pair": per_pair,
+        "mean": sum(per_pair) / len(per_pair),
+        "interval": mean_interval(correct),
+        "per_track_per_pair": per_track,
+        "per_track_mean": sum(per_track) / len(per_track),
+        "per_track_interval": mean_interval(votes),
+    }
+
+
 def pooled_summary(evaluations, thresholds):
     """{method: {N<thresh>: {part: scores}}} over the pairs' evaluations: per part (all
     classes, the four cars) the accuracy of each pair, their mean and its interval, and the
     same per track."""
-    summary = {}
+    groups = {}  # (method, N<thresh>, part) -> ([per-object groups], [per-track groups])
     for evaluation in evaluations:
         results_folder = os.path.join(evaluation, "results")
         for method in sorted(os.listdir(results_folder)):
@@ -84,34 +101,18 @@ def pooled_summary(evaluations, thresholds):
                 results = load_results(path)
                 instances = instances_of(os.path.join(evaluation, "test", "objects",
                                                       f"N{threshold}"))
-                entry = summary.setdefault(method, {}).setdefault(f"N{threshold}", {})
                 for part, classes in PARTS:
                     grouped = instance_groups(results["objects"], instances, results["primary"],
                                               classes)
                     if grouped:
-                        runs = entry.setdefault(part, {"correct": [], "votes": []})
-                        runs["correct"].append(grouped[0])
-                        runs["votes"].append(grouped[1])
-    for by_threshold in summary.values():
-        for entry in by_threshold.values():
-            for part, runs in entry.items():
-                per_pair = [accuracy(groups) for groups in runs["correct"]]
-                per_track = [accuracy(groups) for groups in runs["votes"]]
-                entry[part] = {
-                    "pairs": len(per_pair),
-                    "instances": sum(len(groups) for groups in runs["correct"]),
-                    "per_pair": per_pair,
-                    "mean": sum(per_pair) / len(per_pair),
-                    "interval": mean_interval(runs["correct"]),
-                    "per_track_per_pair": per_track,
-                    "per_track_mean": sum(per_track) / len(per_track),
-                    "per_track_interval": mean_interval(runs["votes"]),
-                }
+                        correct, votes = groups.setdefault((method, f"N{threshold}", part),
+                                                           ([], []))
+                        correct.append(grouped[0])
+                        votes.append(grouped[1])
+    summary = {}
+    for (method, key, part), (correct, votes) in groups.items():
+        summary.setdefault(method, {}).setdefault(key, {})[part] = _pooled(correct, votes)
     return summary
-
-
-def _cell(value, interval):
-    return f"{value:.3f} [{interval[0]:.3f}, {interval[1]:.3f}]"
 
 
 def index_markdown(summary, pairs, duration):
@@ -130,13 +131,13 @@ def index_markdown(summary, pairs, duration):
             everything, cars = entry.get("all"), entry.get("four_cars")
             if not everything:
                 continue
-            car_cells = [_cell(cars["mean"], cars["interval"]),
-                         _cell(cars["per_track_mean"], cars["per_track_interval"])] \
+            car_cells = [with_interval(cars["mean"], cars["interval"]),
+                         with_interval(cars["per_track_mean"], cars["per_track_interval"])] \
                 if cars else ["-", "-"]
             lines.append(" | ".join([
                 f"| {method}", key[1:], str(everything["instances"]),
-                _cell(everything["mean"], everything["interval"]),
-                _cell(everything["per_track_mean"], everything["per_track_interval"]),
+                with_interval(everything["mean"], everything["interval"]),
+                with_interval(everything["per_track_mean"], everything["per_track_interval"]),
                 *car_cells, ", ".join(f"{a:.3f}" for a in everything["per_pair"])]) + " |")
     return "\n".join(lines) + "\n"
 

@@ -21,7 +21,8 @@ import numpy as np  # noqa: E402
 from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import object_label  # noqa: E402
 from ..output import OutputFolder, run_main, save_figure, write_file  # noqa: E402
-from .instances import FOUR_CARS, instance_scores, instances_of  # noqa: E402
+from .instances import (FOUR_CARS, PARTS, instance_scores, instances_of,  # noqa: E402
+                        with_interval)
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402
 
 RESULTS_NAME = re.compile(r"^N(\d+)\.json$")
@@ -156,10 +157,6 @@ def plot_feature_distributions(objects_folder, classes, path):
     plt.close(figure)
 
 
-def _with_interval(value, interval):
-    return f"{value:.3f} [{interval[0]:.3f}, {interval[1]:.3f}]"
-
-
 def _instances_table(summary):
     """index.md's table of accuracies over instances; none without them."""
     rows = []
@@ -171,9 +168,9 @@ def _instances_table(summary):
             cells = []
             for part in ("all", "four_cars"):
                 scores = instances.get(part)
-                cells += [str(scores["instances"]), _with_interval(scores["accuracy"],
+                cells += [str(scores["instances"]), with_interval(scores["accuracy"],
                                                                     scores["interval"]),
-                          _with_interval(scores["per_track"], scores["per_track_interval"])] \
+                          with_interval(scores["per_track"], scores["per_track_interval"])] \
                     if scores else ["-", "-", "-"]
             rows.append(f"| {method} | {key[1:]} | " + " | ".join(cells) + " |")
     if not rows:
@@ -236,7 +233,7 @@ def scores_over_instances(result, objects_folder):
     the four cars (None without any)."""
     instances = instances_of(objects_folder)
     return {part: instance_scores(result["objects"], instances, result["primary"], classes)
-            for part, classes in (("all", None), ("four_cars", FOUR_CARS))}
+            for part, classes in PARTS}
 
 
 def make_report(results_folder, out, model_pictures=None, feature_objects=None, objects=None):

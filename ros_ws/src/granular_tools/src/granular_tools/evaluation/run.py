@@ -17,6 +17,7 @@ from ..bag_to_files.pcd import CloudError
 from ..output import OutputError, claimed_folder, run_main
 from ..stages import StageError, add_runner_options, failure_marker, resolve, run_tool
 from . import report
+from .instances import with_interval
 from .metrics import ResultsError
 
 REGISTRATION_METHODS = ("icp", "icp_nl", "ndt")
@@ -109,10 +110,10 @@ def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir,
 
 
 def accuracy_text(entry):
-    """"0.846 [0.786, 0.898]": a summary entry's accuracy and its interval over instances."""
-    interval = (entry.get("instances") or {}).get("all")
-    bounds = f" [{interval['interval'][0]:.3f}, {interval['interval'][1]:.3f}]" if interval else ""
-    return f"{entry['accuracy']:.3f}{bounds}"
+    """A summary entry's accuracy, with its interval over instances when it has one."""
+    scores = (entry.get("instances") or {}).get("all")
+    return with_interval(entry["accuracy"], scores["interval"]) if scores else \
+        f"{entry['accuracy']:.3f}"
 
 
 def main(argv=None):

@@ -55,6 +55,7 @@ class SegmentCloud {
     config_ = parameters.segmentation;
     segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
+    free_space_config_ = parameters.cuboids.free_space;
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
@@ -84,6 +85,11 @@ class SegmentCloud {
     lgsvl_msgs::Detection3DArray output;
     output.header = message->header;
     const granular::ObjectSegmentation segmentation = segmenter_->segment(cloud);
+    const bool has_ground = config_.method == granular::SegmentationMethod::kObjects;
+    std::optional<granular::FreeSpace> free_space;
+    if (has_ground) {
+      free_space.emplace(cloud, segmentation.ground.plane, free_space_config_);
+    }
     for (std::size_t i = 0; i < segmentation.segments.size(); ++i) {
       const granular::Segment& segment = segmentation.segments[i];
       granular::ObjectView view;
@@ -91,9 +97,10 @@ class SegmentCloud {
       for (const std::size_t index : segment.indices) {
         view.points.emplace_back(cloud[index].x, cloud[index].y, cloud[index].z);
       }
-      if (config_.method == granular::SegmentationMethod::kObjects) {
+      if (has_ground) {
         view.ground = segmentation.ground.plane;
         view.height_cap = config_.objects.max_height;
+        view.free_space = &*free_space;
       }
       // A segment too thin for a cuboid keeps its own box.
       const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(view);
@@ -110,6 +117,7 @@ class SegmentCloud {
   granular::SegmentationStageConfig config_;
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
   std::unique_ptr<granular::CuboidFitter> fitter_;
+  granular::FreeSpaceConfig free_space_config_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;

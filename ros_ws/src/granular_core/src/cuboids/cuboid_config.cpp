@@ -41,6 +41,8 @@ void validate(const CuboidConfig& config) {
   config::validateFields(config);
   config::require(config.points.min_height < config.points.max_height,
                   "points.min_height must be below points.max_height");
+  config::require(config.free_space.body_min < config.free_space.body_max,
+                  "free_space.body_min must be below free_space.body_max");
   config::require(config.lshape.fine_step_deg <= config.lshape.coarse_step_deg,
                   "lshape.fine_step_deg must not exceed lshape.coarse_step_deg");
   config::require(config.model.headings == 2 || config.model.headings == 4,

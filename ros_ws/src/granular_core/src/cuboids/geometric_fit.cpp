@@ -64,8 +64,18 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
                                              prior->width, config_.geometric.width_tolerance)
                        : longer;
   if (prior != nullptr) {
+    cuboids::SeenEmpty seen_empty;
+    if (object.free_space != nullptr) {
+      const Eigen::Isometry3d to_sensor = levelled->levelling.inverse();
+      const double body_height = (config_.free_space.body_min + config_.free_space.body_max) / 2;
+      seen_empty = [&](const Eigen::Vector2d& place) {
+        return object.free_space->seenEmpty(to_sensor *
+                                            Eigen::Vector3d(place.x(), place.y(), body_height));
+      };
+    }
     rectangle = cuboids::grownFromSeenCorner(rectangle, levelled->sensor, length_axis,
-                                             prior->length, prior->width);
+                                             prior->length, prior->width, seen_empty,
+                                             config_.free_space.step, config_.free_space.inset);
   }
   const double height = prior != nullptr && levelled->points.size() < config_.geometric.height_points
                             ? prior->height

@@ -9,6 +9,39 @@
 namespace granular {
 namespace cuboids {
 
+namespace {
+
+// Leaves out the points above the lowest gap in height that ObjectPointsConfig calls an
+// overhang, and lowers the top to the body's.
+void dropOverhang(LevelledObject& object, const ObjectPointsConfig& band) {
+  std::vector<double> heights;
+  heights.reserve(object.points.size());
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : object.points) {
+    heights.push_back(point.z());
+    nearest = std::min(nearest, (point.head<2>() - object.sensor).norm());
+  }
+  std::sort(heights.begin(), heights.end());
+  const double gap =
+      std::max(band.overhang_gap, nearest * std::tan(band.overhang_gap_deg * M_PI / 180.0));
+  const double most_above = band.overhang_share * static_cast<double>(heights.size());
+  for (std::size_t i = 1; i < heights.size(); ++i) {
+    if (static_cast<double>(heights.size() - i) > most_above) {
+      continue;
+    }
+    if (heights[i] - heights[i - 1] > gap) {
+      const double body_top = heights[i - 1];
+      object.points.erase(std::remove_if(object.points.begin(), object.points.end(),
+                                         [&](const Eigen::Vector3d& p) { return p.z() > body_top; }),
+                          object.points.end());
+      object.top = body_top;
+      return;
+    }
+  }
+}
+
+}  // namespace
+
 std::optional<LevelledObject> levelObject(const ObjectView& object,
                                           const ObjectPointsConfig& band) {
   LevelledObject levelled;
@@ -41,6 +74,7 @@ std::optional<LevelledObject> levelObject(const ObjectView& object,
     return std::nullopt;
   }
   levelled.sensor = (levelled.levelling * object.sensor).head<2>();
+  dropOverhang(levelled, band);
   return levelled;
 }
 
@@ -109,7 +143,8 @@ AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& 
 }
 
 AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d& sensor,
-                                  int length_axis, double length, double width) {
+                                  int length_axis, double length, double width,
+                                  const SeenEmpty& seen_empty, double step, double inset) {
   const Eigen::Vector2d seen_from = rectangle.coordinates(sensor);
   for (int axis = 0; axis < 2; ++axis) {
     const double wanted = axis == length_axis ? length : width;
@@ -117,11 +152,28 @@ AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d
     if (high - low >= wanted) {
       continue;
     }
-    if (std::abs(seen_from[axis] - low) <= std::abs(seen_from[axis] - high)) {
-      rectangle.max[axis] = low + wanted;
-    } else {
-      rectangle.min[axis] = high - wanted;
+    const bool grows_up = std::abs(seen_from[axis] - low) <= std::abs(seen_from[axis] - high);
+    const double seen_end = grows_up ? high : low;
+    const double direction = grows_up ? 1.0 : -1.0;
+    double growth = wanted - (high - low);
+    // Only a face seen over half its class's extent is tested: behind a face seen head on
+    // (a rear), a degree of yaw error takes the probes off the object into seen space.
+    if (seen_empty && high - low >= wanted / 2) {
+      // Just behind the face turned to the sensor, continued: the sensor would have hit it.
+      const int across = 1 - axis;
+      const bool near_min = std::abs(seen_from[across] - rectangle.min[across]) <=
+                            std::abs(seen_from[across] - rectangle.max[across]);
+      Eigen::Vector2d probe;
+      probe[across] = near_min ? rectangle.min[across] + inset : rectangle.max[across] - inset;
+      for (double beyond = step; beyond <= growth; beyond += step) {
+        probe[axis] = seen_end + direction * beyond;
+        if (seen_empty(rectangle.point(probe))) {
+          growth = beyond - step;
+          break;
+        }
+      }
     }
+    (grows_up ? rectangle.max : rectangle.min)[axis] = seen_end + direction * growth;
   }
   return rectangle;
 }

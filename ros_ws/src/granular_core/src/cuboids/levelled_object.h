@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -29,7 +30,8 @@ struct LevelledObject {
 };
 
 /// The object levelled on its ground (ObjectView says which) and its points within the height
-/// band of `config`; nullopt with fewer than config.min_points points.
+/// band of `config`, without an overhang over it; nullopt with fewer than config.min_points
+/// points.
 std::optional<LevelledObject> levelObject(const ObjectView& object,
                                           const ObjectPointsConfig& config);
 
@@ -55,11 +57,18 @@ Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& re
 /// class is its front or rear; a face seen edge on is the side).
 int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance);
 
+/// Whether a place (levelled x, y) was seen empty at body height.
+using SeenEmpty = std::function<bool(const Eigen::Vector2d&)>;
+
 /// `rectangle` with its extent along axis `length_axis` (0: u, 1: v) grown to at least `length`
 /// and along the other to at least `width`, each away from the sensor: the end nearer `sensor`
-/// stays.
+/// stays. With `seen_empty`, a face seen over at least half of what it grows to stops short of
+/// the first place seen empty, tested every `step` beyond its seen end, `inset` behind the face
+/// turned to the sensor.
 AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d& sensor,
-                                  int length_axis, double length, double width);
+                                  int length_axis, double length, double width,
+                                  const SeenEmpty& seen_empty = nullptr, double step = 0.25,
+                                  double inset = 0.25);
 
 /// The box standing on the levelled ground (z = 0) centred over `centre` (levelled x, y), its
 /// length axis at `yaw` (rad) about the ground's normal, of `size`, in the sensor frame.

@@ -103,6 +103,10 @@ Eigen::Vector2d AxisRectangle::coordinates(const Eigen::Vector2d& point) const {
   return {point.dot(u()), point.dot(v())};
 }
 
+Eigen::Vector2d AxisRectangle::point(const Eigen::Vector2d& coordinates) const {
+  return u() * coordinates.x() + v() * coordinates.y();
+}
+
 std::vector<Eigen::Vector2d> thinnedPoints(const std::vector<Eigen::Vector2d>& points,
                                            double cell) {
   if (!(cell > 0.0)) {

@@ -107,8 +107,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     const Cloud cloud = readPcd(frames / "pcd" / (stamp + ".pcd"));
 
     std::vector<Input> inputs;
+    std::optional<FreeSpace> free_space;  // where there is a ground to measure heights on
     if (options.boxes == CuboidInputs::kSegments) {
       const ObjectSegmentation segmentation = segmenter.segment(cloud);
+      if (segment_ground) {
+        free_space.emplace(cloud, segmentation.ground.plane, config.free_space);
+      }
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
         if (options.classifier != nullptr) {
           // As evaluate_segmentation decides: the segment's box, in its object frame.
@@ -132,6 +136,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     } else {
       const GroundPlane ground =
           estimateGroundPlane(cloud, options.ground.plane);
+      free_space.emplace(cloud, ground, config.free_space);
       const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
       for (std::size_t d = 0; d < detections.size(); ++d) {
         const Detection& detection = detections[d];
@@ -155,6 +160,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         input.view.points = isolateObject(grown, ground, box->centre(), box->size(), config);
         inputs.push_back(std::move(input));
       }
+    }
+    for (Input& input : inputs) {
+      input.view.free_space = free_space ? &*free_space : nullptr;
     }
 
     // The objects over the threads, each timed alone.

@@ -133,6 +133,101 @@ TEST(GeometricFitTest, ASideFaceGrowsAwayFromTheSensorToThePriorWidth) {
   EXPECT_NEAR(fitted->box.size().y(), 1.8, 1e-9);
 }
 
+// A scan of `object_on_road` (road frame) and of the road all around it out to 40 m, the road's
+// returns every 0.2 m of range and 0.2 deg of azimuth, in the sensor frame.
+Cloud scanWithRoad(const std::vector<Eigen::Vector3d>& object_on_road,
+                   const GroundPlane& ground) {
+  std::vector<Eigen::Vector3d> points = object_on_road;
+  for (double azimuth = -180.0; azimuth < 180.0; azimuth += 0.2) {
+    for (double range = 2.0; range <= 40.0; range += 0.2) {
+      points.emplace_back(range * std::cos(azimuth * kDeg), range * std::sin(azimuth * kDeg), 0.0);
+    }
+  }
+  Cloud cloud;
+  for (const Eigen::Vector3d& p : moved(points, ground.levelling().inverse())) {
+    cloud.push_back(PointXYZIT(float(p.x()), float(p.y()), float(p.z()), 0.0f, 0.0));
+  }
+  return cloud;
+}
+
+TEST(GeometricFitTest, AShortCarWhoseWholeSideWasSeenKeepsItsLength) {
+  const GroundPlane ground = road();
+  const CuboidConfig config = carPrior();  // a 4.5 m prior
+  StandingBox car;
+  car.centre = {3.0, 6.0};
+  car.size = {3.3, 1.8, 1.5};
+  const std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  ObjectView object = view(seen, ground);
+  // Told nothing of the space around it, the box grows to the prior.
+  const std::optional<FittedCuboid> grown = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(grown);
+  EXPECT_NEAR(grown->box.size().x(), 4.5, 1e-9);
+  // The road was seen beyond the side's far end: the car ends there, give or take the probe
+  // step (the first probe, 0.25 m beyond, shares its azimuth bin with the car's corner).
+  const FreeSpace free_space(scanWithRoad(seen, ground), ground, config.free_space);
+  object.free_space = &free_space;
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(fitted);
+  EXPECT_GE(fitted->box.size().x(), 3.3 - 0.02);
+  EXPECT_LE(fitted->box.size().x(), 3.3 + config.free_space.step + 0.02);
+  EXPECT_LT(headingError(fitted->box, ground, car.yaw), 0.5);
+  EXPECT_LT(centreError(fitted->box, ground, car), config.free_space.step / 2 + 0.02);
+}
+
+TEST(GeometricFitTest, ASideHiddenBehindAnotherObjectStillGrowsToThePrior) {
+  const GroundPlane ground = road();
+  const CuboidConfig config = carPrior();
+  StandingBox car;
+  car.centre = {8.0, 6.0};
+  // The rear face and the first 2.5 m of the right side ...
+  const std::vector<Eigen::Vector3d> seen =
+      seenFaces(car, sensorInRoadFrame(ground), 0.05,
+                [](double u, double, double) { return u <= -2.25 + 2.5 + 1e-9; });
+  ObjectView object = view(seen, ground);
+  const FreeSpace open_road(scanWithRoad(seen, ground), ground, config.free_space);
+  object.free_space = &open_road;
+  // ... with the road seen beyond them (the rest of the car was not there) ...
+  const std::optional<FittedCuboid> short_box = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(short_box);
+  EXPECT_GE(short_box->box.size().x(), 2.5 - 0.02);
+  EXPECT_LE(short_box->box.size().x(), 2.5 + config.free_space.step + 0.02);
+  // ... or hidden by something nearer the sensor, 6 m away across the bearings of the rest.
+  std::vector<Eigen::Vector3d> scene = seen;
+  for (double azimuth = 10.0; azimuth <= 32.0; azimuth += 0.1) {
+    for (double h = 0.6; h <= 1.9; h += 0.2) {
+      scene.emplace_back(6.0 * std::cos(azimuth * kDeg), 6.0 * std::sin(azimuth * kDeg), h);
+    }
+  }
+  const FreeSpace hidden(scanWithRoad(scene, ground), ground, config.free_space);
+  object.free_space = &hidden;
+  expectTheCar(GeometricCuboidFitter(config).fit(object), ground, car);
+}
+
+TEST(GeometricFitTest, AFewPointsOverAGapAboveTheRoofAreAnOverhang) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"Van", {5.1, 1.9, 2.2}}};
+  config.geometric.classes = {"Car", "Van"};
+  StandingBox car;
+  car.centre = {8.0, 4.0};
+  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  // A branch 0.6 m over the roof: six returns, 2.1 m above the road.
+  for (int i = 0; i < 6; ++i) {
+    seen.emplace_back(7.0 + 0.1 * i, 3.5, 2.1);
+  }
+  ASSERT_LE(6.0, config.points.overhang_share * double(seen.size()));
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().z(), 1.5, 1e-9);
+  EXPECT_NEAR(fitted->box.size().x(), 4.5, 0.02);
+  EXPECT_EQ(fitted->points, seen.size() - 6);
+  // Closer over the roof than the gap, they are the object's own.
+  config.points.overhang_gap = 0.7;
+  const std::optional<FittedCuboid> tall = GeometricCuboidFitter(config).fit(view(seen, ground));
+  ASSERT_TRUE(tall);
+  EXPECT_NEAR(tall->box.size().z(), 2.1, 1e-9);
+}
+
 TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
   const GroundPlane ground = road();
   CuboidConfig config = carPrior();

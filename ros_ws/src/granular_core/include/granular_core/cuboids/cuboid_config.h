@@ -90,6 +90,13 @@ struct ObjectPointsConfig {
   double max_height = 4.5;
   /// Objects with fewer points above the ground get no cuboid.
   std::size_t min_points = 3;
+  /// Overhangs (a branch or sign over a parked car): points above a gap in height wider than
+  /// `overhang_gap` m and than `overhang_gap_deg` as seen from the sensor (the scan's rings
+  /// spread apart with range) are left out, when they are at most `overhang_share` of the
+  /// object's points (a roof seen over windows that returned nothing is more).
+  double overhang_gap = 0.3;
+  double overhang_gap_deg = 1.5;
+  double overhang_share = 0.05;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -97,6 +104,36 @@ struct ObjectPointsConfig {
     visit("min_height", self.min_height, any("m"));
     visit("max_height", self.max_height, positive("m"));
     visit("min_points", self.min_points, atLeast(3, "points"));
+    visit("overhang_gap", self.overhang_gap, positive("m"));
+    visit("overhang_gap_deg", self.overhang_gap_deg, interval(0.0, 90.0, "deg", false, true));
+    visit("overhang_share", self.overhang_share, fraction());
+  }
+};
+
+/// What the scan saw around an object (FreeSpace): a box grows from the seen corner only into
+/// space the sensor did not see empty, so a car whose whole side was seen keeps its length.
+struct FreeSpaceConfig {
+  /// deg, the width of the azimuth bins about the sensor; 0: the space is not looked at and a
+  /// box always grows to its prior.
+  double bin_deg = 0.5;
+  /// m above the ground: the band a vehicle's body fills. A return in it blocks its ray; a
+  /// ray seen empty over a place passed it within the band.
+  double body_min = 0.5;
+  double body_max = 2.0;
+  /// m: the growth is tested in steps of this beyond the seen end, ...
+  double step = 0.25;
+  /// m: ... this far behind the face turned to the sensor (the face's rectangle edge is its
+  /// outermost returns; nearer the face, a place beside the object is taken for its end).
+  double inset = 0.25;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("bin_deg", self.bin_deg, interval(0.0, 45.0, "deg"));
+    visit("body_min", self.body_min, nonNegative("m"));
+    visit("body_max", self.body_max, positive("m"));
+    visit("step", self.step, positive("m"));
+    visit("inset", self.inset, nonNegative("m"));
   }
 };
 
@@ -225,6 +262,7 @@ struct CuboidConfig {
   LShapeConfig lshape;
   std::map<std::string, SizePrior> priors = defaultSizePriors();
   GeometricFitConfig geometric;
+  FreeSpaceConfig free_space;
   ModelFitConfig model;
   ClickConfig click;
 
@@ -236,6 +274,7 @@ struct CuboidConfig {
     visit("lshape", self.lshape);
     visit("priors", self.priors);
     visit("geometric", self.geometric);
+    visit("free_space", self.free_space);
     visit("model", self.model);
     visit("click", self.click);
   }

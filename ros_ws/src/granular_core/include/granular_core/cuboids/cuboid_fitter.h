@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "granular_core/cuboids/cuboid_config.h"
+#include "granular_core/cuboids/free_space.h"
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/geometry/oriented_box.h"
 #include "granular_core/ground/ground.h"
@@ -30,6 +31,9 @@ struct ObjectView {
   /// The sensor's position in the sensor frame (the origin, for a frame's own cloud): the
   /// faces turned to it are the ones seen.
   Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
+  /// What the scan around the object saw empty (its frame's FreeSpace, from a sensor at the
+  /// origin): the geometric fit grows no box into it. Null: nothing is known to be empty.
+  const FreeSpace* free_space = nullptr;
 };
 
 /// A fitted cuboid.

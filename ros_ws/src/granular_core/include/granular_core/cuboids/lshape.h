@@ -24,6 +24,8 @@ struct AxisRectangle {
   Eigen::Vector2d centre() const;
   /// Coordinates (u, v) of a point of the plane.
   Eigen::Vector2d coordinates(const Eigen::Vector2d& point) const;
+  /// The point of the plane at coordinates (u, v).
+  Eigen::Vector2d point(const Eigen::Vector2d& coordinates) const;
 };
 
 /// The points merged to one per `cell` (m) square, at the mean of the cell's points, in the

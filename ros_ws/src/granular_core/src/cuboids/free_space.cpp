@@ -1,0 +1,50 @@
+#include "granular_core/cuboids/free_space.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace granular {
+
+FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSpaceConfig& config)
+    : bin_(config.bin_deg * M_PI / 180.0) {
+  if (bin_ <= 0.0) {
+    return;
+  }
+  const std::size_t bins = static_cast<std::size_t>(std::ceil(2.0 * M_PI / bin_));
+  blocked_.assign(bins, std::numeric_limits<float>::infinity());
+  reach_.assign(bins, 0.0f);
+  const double sensor_height = ground.heightOf(Eigen::Vector3d::Zero());
+  for (const PointXYZIT& point : cloud) {
+    const Eigen::Vector3d p(point.x, point.y, point.z);
+    if (!p.allFinite()) {
+      continue;
+    }
+    const double range = p.head<2>().norm();
+    const double height = ground.heightOf(p);
+    const std::size_t bin =
+        static_cast<std::size_t>((std::atan2(p.y(), p.x()) + M_PI) / bin_) % bins;
+    float reach = 0.0f;
+    if (height >= config.body_min && height <= config.body_max) {
+      blocked_[bin] = std::min(blocked_[bin], static_cast<float>(range));
+      reach = static_cast<float>(range);
+    } else if (height < config.body_min && sensor_height > config.body_min) {
+      // The ray came down from the sensor to the road: it was in the band until here.
+      reach = static_cast<float>(range * (sensor_height - config.body_min) /
+                                 (sensor_height - height));
+    }
+    reach_[bin] = std::max(reach_[bin], reach);
+  }
+}
+
+bool FreeSpace::seenEmpty(const Eigen::Vector3d& point) const {
+  if (blocked_.empty() || !point.allFinite()) {
+    return false;
+  }
+  const double range = point.head<2>().norm();
+  const std::size_t bin =
+      static_cast<std::size_t>((std::atan2(point.y(), point.x()) + M_PI) / bin_) % blocked_.size();
+  return blocked_[bin] > range && reach_[bin] > range;
+}
+
+}  // namespace granular

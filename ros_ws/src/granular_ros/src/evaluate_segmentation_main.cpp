@@ -2,6 +2,7 @@
 // bag-to-files folder (pcd/<stamp>.pcd with detections_3d/<stamp>.json).
 #include <algorithm>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -36,11 +37,19 @@ std::string usage() {
          "                         with Background objects (extract_objects --background);\n"
          "                         the segments it calls Background are dropped, and the\n"
          "                         figures are printed again for the rest\n"
+         "  --cuboids FILE         score full-vehicle cuboids instead of the segments' boxes:\n"
+         "                         a YAML file like config/cuboids.yaml (geometric or\n"
+         "                         rectangle method), fitted to each segment as fit_cuboids\n"
+         "                         --boxes segment does; the time includes the fitting\n"
+         "  --prior-classes LIST   with --cuboids: the size priors to choose among, comma-\n"
+         "                         separated (KITTI: Car,Van,Truck; the simulator:\n"
+         "                         Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus)\n"
          "  --save FOLDER          also write what the segmentation saw, per frame:\n"
-         "                         <stamp>.json, the segments as detections (label unknown,\n"
-         "                         or --classifier's), and <stamp>.pcd, x y z with each\n"
-         "                         point's height above the ground and its segment (-1\n"
-         "                         ground, 0 none, k+1 segment k), for render_frame\n"
+         "                         <stamp>.json, the segments (or cuboids) as detections\n"
+         "                         (label unknown, or --classifier's), and <stamp>.pcd,\n"
+         "                         x y z with each point's height above the ground and\n"
+         "                         its segment (-1 ground, 0 none, k+1 segment k), for\n"
+         "                         render_frame\n"
          "  --overwrite            replace a --save folder a granular tool wrote\n"
          "  --max-distance M       metres between matched centres (default 1)\n"
          "  --min-points N         points a true box must hold to count (default 10)\n"
@@ -68,6 +77,10 @@ int main(int argc, char** argv) {
   std::string save;
   bool overwrite = false;
   std::optional<granular::SupervisedClassifier> classifier;
+  std::optional<std::string> cuboids_file;
+  std::optional<std::string> prior_classes;
+  granular::CuboidConfig cuboids;
+  std::unique_ptr<granular::CuboidFitter> fitter;
   granular::SegmentationEvaluationOptions options;
   granular::SegmentationStageConfig config;
   granular::GroundConfig ground;
@@ -76,6 +89,8 @@ int main(int argc, char** argv) {
       .required("--frames", frames)
       .value("--method", method)
       .value("--classifier", classifier_file)
+      .value("--cuboids", cuboids_file)
+      .value("--prior-classes", prior_classes)
       .value("--save", save)
       .flag("--overwrite", overwrite)
       .number("--max-distance", options.max_distance)
@@ -90,6 +105,21 @@ int main(int argc, char** argv) {
       config.method =
           granular_ros::parseChoice<granular::SegmentationMethod>("--method", *method);
     }
+    if (prior_classes && !cuboids_file) {
+      throw std::invalid_argument("--prior-classes chooses the cuboids' priors: it needs --cuboids");
+    }
+    if (cuboids_file) {
+      cuboids = granular_ros::buildConfig<granular::CuboidConfig>(
+          cuboids_file, [&](granular::CuboidConfig& loaded) {
+            if (prior_classes) {
+              loaded.geometric.classes = granular_ros::splitList("--prior-classes", *prior_classes);
+            }
+          });
+      if (cuboids.method == granular::CuboidMethod::kModel) {
+        throw std::invalid_argument(
+            "--cuboids: the model method needs class models; use method geometric or rectangle");
+      }
+    }
     if (!(options.max_distance >= 0.0) || !(options.half_field_of_view_deg > 0.0) ||
         !(options.max_range > 0.0)) {
       throw std::invalid_argument(
@@ -101,6 +131,11 @@ int main(int argc, char** argv) {
       classifier.emplace(
           granular_ros::loadBackgroundClassifier(*classifier_file, config.background.label));
       options.classifier = &*classifier;
+    }
+    if (cuboids_file) {
+      fitter = granular::makeCuboidFitter(cuboids, {});
+      options.cuboids = fitter.get();
+      options.free_space = cuboids.free_space;
     }
     options.save = save;
     options.save_policy = granular_ros::Tool::outputPolicy(overwrite);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <granular_core/cuboids/cuboid_fitter.h>
+#include <granular_core/cuboids/segment_views.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <ros/ros.h>
@@ -85,25 +86,11 @@ class SegmentCloud {
     lgsvl_msgs::Detection3DArray output;
     output.header = message->header;
     const granular::ObjectSegmentation segmentation = segmenter_->segment(cloud);
-    const bool has_ground = config_.method == granular::SegmentationMethod::kObjects;
-    std::optional<granular::FreeSpace> free_space;
-    if (has_ground) {
-      free_space.emplace(cloud, segmentation.ground.plane, free_space_config_);
-    }
+    const granular::SegmentViews views(cloud, segmentation, config_, free_space_config_);
     for (std::size_t i = 0; i < segmentation.segments.size(); ++i) {
       const granular::Segment& segment = segmentation.segments[i];
-      granular::ObjectView view;
-      view.points.reserve(segment.indices.size());
-      for (const std::size_t index : segment.indices) {
-        view.points.emplace_back(cloud[index].x, cloud[index].y, cloud[index].z);
-      }
-      if (has_ground) {
-        view.ground = segmentation.ground.plane;
-        view.height_cap = config_.objects.max_height;
-        view.free_space = &*free_space;
-      }
       // A segment too thin for a cuboid keeps its own box.
-      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(view);
+      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(views.view(i));
       lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
           cuboid ? cuboid->box : segment.box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
       detection.header = message->header;

@@ -430,6 +430,19 @@ def test_a_background_decision_without_a_background_class_names_the_classes(driv
                          "--background")
 
 
+def test_cuboid_options_of_evaluate_segmentation_are_checked(drive, tmp_path, repo_root):
+    tool = hostile.tool("granular_ros", "evaluate_segmentation") + ["--frames", drive / "frames"]
+    assert_fails_clearly(run(tool + ["--prior-classes", "Sedan"]), 2, "--prior-classes",
+                         "--cuboids")
+    model = tmp_path / "model.yaml"
+    model.write_text("method: model\n")
+    assert_fails_clearly(run(tool + ["--cuboids", model]), 2, "--cuboids", "model",
+                         "geometric")
+    cuboids = repo_root / "config" / "cuboids.yaml"
+    assert_fails_clearly(run(tool + ["--cuboids", cuboids, "--prior-classes", "Sedan,Tank"]),
+                         2, "Tank", "priors")
+
+
 def test_background_harvest_options_without_background_are_refused(drive, tmp_path):
     result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o",
                             "--sensor-height", "2.3"])

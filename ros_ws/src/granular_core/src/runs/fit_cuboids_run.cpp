@@ -14,6 +14,7 @@
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/cuboids/segment_views.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "run_helpers.h"
 
@@ -32,15 +33,6 @@ DetectionsHeader headerOfStamp(const std::string& stamp) {
     header.nsecs = nanoseconds % 1000000000LL;
   }
   return header;
-}
-
-std::vector<Eigen::Vector3d> pointsOf(const Cloud& cloud, const std::vector<std::size_t>& indices) {
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(indices.size());
-  for (const std::size_t i : indices) {
-    points.emplace_back(cloud[i].x, cloud[i].y, cloud[i].z);
-  }
-  return points;
 }
 
 // One object for the fitter, and the id its cuboid gets.
@@ -91,7 +83,6 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   OutputFolder output(out, "fit_cuboids", options.output);
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
-  const bool segment_ground = options.segmentation.method == SegmentationMethod::kObjects;
 
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
@@ -107,12 +98,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     const Cloud cloud = readPcd(frames / "pcd" / (stamp + ".pcd"));
 
     std::vector<Input> inputs;
-    std::optional<FreeSpace> free_space;  // where there is a ground to measure heights on
+    ObjectSegmentation segmentation;
+    std::optional<SegmentViews> segment_views;
+    std::optional<FreeSpace> free_space;
     if (options.boxes == CuboidInputs::kSegments) {
-      const ObjectSegmentation segmentation = segmenter.segment(cloud);
-      if (segment_ground) {
-        free_space.emplace(cloud, segmentation.ground.plane, config.free_space);
-      }
+      segmentation = segmenter.segment(cloud);
+      segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
         if (options.classifier != nullptr) {
           // As evaluate_segmentation decides: the segment's box, in its object frame.
@@ -126,11 +117,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
         Input input;
         input.id = static_cast<std::int64_t>(s);
-        input.view.points = pointsOf(cloud, segmentation.segments[s].indices);
-        if (segment_ground) {
-          input.view.ground = segmentation.ground.plane;
-          input.view.height_cap = options.segmentation.objects.max_height;
-        }
+        input.view = segment_views->view(s);
         inputs.push_back(std::move(input));
       }
     } else {
@@ -158,11 +145,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         input.id = detection.id;
         input.view.ground = ground;
         input.view.points = isolateObject(grown, ground, box->centre(), box->size(), config);
+        input.view.free_space = &*free_space;
         inputs.push_back(std::move(input));
       }
-    }
-    for (Input& input : inputs) {
-      input.view.free_space = free_space ? &*free_space : nullptr;
     }
 
     // The objects over the threads, each timed alone.

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "granular_core/cuboids/segment_views.h"
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
@@ -62,11 +63,11 @@ FrameScore scoreFrame(const std::vector<OrientedBox>& boxes,
 
 // What evaluateSegmentation --save writes for one frame (see SegmentationEvaluationOptions).
 void saveFrame(const fs::path& folder, const std::string& stem, const Cloud& cloud,
-               const ObjectSegmentation& result, const std::vector<std::string>& labels,
-               DetectionsHeader header) {
+               const ObjectSegmentation& result, const std::vector<OrientedBox>& boxes,
+               const std::vector<std::string>& labels, DetectionsHeader header) {
   std::vector<Detection> detections;
-  for (std::size_t s = 0; s < result.segments.size(); ++s) {
-    const OrientedBox& box = result.segments[s].box;
+  for (std::size_t s = 0; s < boxes.size(); ++s) {
+    const OrientedBox& box = boxes[s];
     Detection detection;
     detection.id = static_cast<std::int64_t>(s);
     detection.label = labels[s];
@@ -138,8 +139,21 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     const std::vector<Detection> detections =
         fs::exists(json) ? readDetectionsJson(json, &header) : std::vector<Detection>();
     const auto start = std::chrono::steady_clock::now();
-    ObjectSegmentation result = segmenter.segment(cloud);
+    const ObjectSegmentation result = segmenter.segment(cloud);
     const std::vector<Segment>& segments = result.segments;
+    // The boxes scored and saved: the segments' own, or the cuboids fitted to them.
+    std::vector<OrientedBox> frame_boxes;
+    for (const Segment& segment : segments) {
+      frame_boxes.push_back(segment.box);
+    }
+    if (options.cuboids != nullptr) {
+      const SegmentViews views(cloud, result, config, options.free_space);
+      for (std::size_t s = 0; s < segments.size(); ++s) {
+        if (const std::optional<FittedCuboid> cuboid = options.cuboids->fit(views.view(s))) {
+          frame_boxes[s] = cuboid->box;
+        }
+      }
+    }
     for (const auto& [gate, count] : result.rejected) {
       evaluation.rejected[gate] += count;
     }
@@ -151,10 +165,11 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     std::vector<std::string> labels(segments.size(), "unknown");
     std::vector<OrientedBox> boxes, kept, truth, visible;
     for (std::size_t s = 0; s < segments.size(); ++s) {
-      const OrientedBox& box = segments[s].box;
+      const OrientedBox& box = frame_boxes[s];
       const bool in_view = counted(box.centre(), options);
       if (options.classifier && (in_view || saved)) {
-        const Cloud object = cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero());
+        // As fit_cuboids decides: on the segment's own box.
+        const Cloud object = cropToObjectFrame(cloud, segments[s].box, Eigen::Vector3d::Zero());
         labels[s] = options.classifier->predict(options.classifier->features(object));
       }
       if (!in_view) {
@@ -170,7 +185,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       }
     }
     if (saved) {
-      saveFrame(saved->staging(), stem, cloud, result, labels, header);
+      saveFrame(saved->staging(), stem, cloud, result, frame_boxes, labels, header);
     }
     for (const Detection& detection : detections) {
       const OrientedBox box(detection.centre, detection.orientation, detection.size);
@@ -218,6 +233,9 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   std::snprintf(line, sizeof(line), "clouds: %zu (%.0f points each on average)\n", frames,
                 share(points, frames));
   out << line;
+  if (options.cuboids != nullptr) {
+    out << "boxes: cuboids fitted to the segments (a segment's own box where none fits)\n";
+  }
   std::snprintf(line, sizeof(line),
                 "counted: objects with at least %zu points and segments within %.0f deg of "
                 "straight ahead",
@@ -255,8 +273,9 @@ void SegmentationEvaluation::report(std::ostream& out) const {
     }
     out << '\n';
   }
-  std::snprintf(line, sizeof(line), "time per cloud (ground, segments, boxes): mean %.2f ms, "
+  std::snprintf(line, sizeof(line), "time per cloud (ground, segments, %s): mean %.2f ms, "
                                     "p95 %.2f ms\n",
+                options.cuboids != nullptr ? "cuboids" : "boxes",
                 milliseconds.empty() ? 0.0 : sum / static_cast<double>(milliseconds.size()),
                 runs::percentile(milliseconds, 95));
   out << line;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "granular_core/cuboids/cuboid_fitter.h"
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "granular_core/supervised/supervised_classifier.h"
@@ -26,9 +27,14 @@ struct SegmentationEvaluationOptions {
   /// objects) whose label for a segment's points drops the segment when it is the segmentation
   /// config's background.label; null: no decision.
   const SupervisedClassifier* classifier = nullptr;
+  /// Boxes from a cuboid fitter: each segment's box becomes the cuboid `cuboids` fits to it
+  /// (with the frame's free space as `free_space` says), when it fits one; the recall then
+  /// measures the whole box-free chain. Null: the segments' own boxes.
+  const CuboidFitter* cuboids = nullptr;
+  FreeSpaceConfig free_space;
   /// A folder to write what the segmentation saw into, for pictures and inspection (empty:
-  /// none): per frame `<stamp>.json`, the segments as detections (label `unknown`, or the
-  /// classifier's), and `<stamp>.pcd`, the cloud's x y z with each point's `height` above the
+  /// none): per frame `<stamp>.json`, the segments' boxes (or cuboids) as detections (label
+  /// `unknown`, or the classifier's), and `<stamp>.pcd`, the cloud's x y z with each point's `height` above the
   /// ground and its `segment` (-1 ground, 0 in no segment, k + 1 in segment k). An
   /// OutputFolder: built beside itself and put in place when complete.
   std::filesystem::path save;

@@ -61,7 +61,9 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
   const int longer = seen.x() >= seen.y() ? 0 : 1;
   const int length_axis =
       prior != nullptr ? cuboids::lengthAxis(cuboids::bodyExtent(*levelled, rectangle),
-                                             prior->width, config_.geometric.width_tolerance)
+                                             prior->width, config_.geometric.width_tolerance,
+                                             rectangle.coordinates(rectangle.centre() -
+                                                                   levelled->sensor))
                        : longer;
   if (prior != nullptr) {
     cuboids::SeenEmpty seen_empty;

@@ -112,13 +112,18 @@ Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& re
   return (high.array() >= low.array()).all() ? Eigen::Vector2d(high - low) : rectangle.extent();
 }
 
-int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance) {
+int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,
+               const Eigen::Vector2d& sight) {
   const int longer = seen.x() >= seen.y() ? 0 : 1;
   const double longer_gap = std::abs(seen[longer] - width);
   const double shorter_gap = std::abs(seen[1 - longer] - width);
-  // Both as wide as the class: a corner of a short object, the longer is the length.
-  if (seen[longer] > width + tolerance || (longer_gap <= tolerance && shorter_gap <= tolerance)) {
+  if (seen[longer] > width + tolerance) {
     return longer;
+  }
+  // Both as wide as the class: the object is seen end on, the roof or bonnet making it look
+  // deep along the line of sight, which is then the length.
+  if (longer_gap <= tolerance && shorter_gap <= tolerance) {
+    return std::abs(sight.x()) >= std::abs(sight.y()) ? 0 : 1;
   }
   return longer_gap <= shorter_gap ? 1 - longer : longer;
 }

@@ -51,11 +51,14 @@ AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& 
 Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& rectangle);
 
 /// Which axis of a rectangle of extents `seen` (0: u, 1: v) is the length of an object whose
-/// width is `width`: the longer when it exceeds `width` by more than `tolerance` (it can only
-/// be a side) or when both are within `tolerance` of `width` (a corner of a short object);
-/// otherwise the other axis than the one whose extent is nearer `width` (a face as wide as the
-/// class is its front or rear; a face seen edge on is the side).
-int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance);
+/// width is `width`, seen along `sight` (the direction from the sensor to the object, in the
+/// rectangle's u, v): the longer when it exceeds `width` by more than `tolerance` (it can only
+/// be a side); when both are within `tolerance` of `width`, the one nearer the line of sight
+/// (an object seen end on, its roof or bonnet seen in depth); otherwise the other axis than the
+/// one whose extent is nearer `width` (a face as wide as the class is its front or rear; a face
+/// seen edge on is the side).
+int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,
+               const Eigen::Vector2d& sight);
 
 /// Whether a place (levelled x, y) was seen empty at body height.
 using SeenEmpty = std::function<bool(const Eigen::Vector2d&)>;

@@ -124,7 +124,8 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
     const Eigen::Vector2d middle = (model.low + model.high) / 2;
     // With two headings, the length axis the geometric fit would take with this model's size.
     const int geometric_axis =
-        cuboids::lengthAxis(body, size.y(), config.geometric.width_tolerance);
+        cuboids::lengthAxis(body, size.y(), config.geometric.width_tolerance,
+                            rectangle.coordinates(rectangle.centre() - levelled->sensor));
     for (int axis = 0; axis < 2; ++axis) {
       if (config.model.headings == 2 && axis != geometric_axis) {
         continue;

@@ -282,6 +282,24 @@ TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {
   EXPECT_LT(centreError(fitted->box, ground, truck), 0.05);
 }
 
+TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {14.0, 0.3};
+  car.yaw = 1.0 * kDeg;
+  // From behind: the rear face, and the rear window and roof seen 1.7 m deep above it, as deep
+  // as the car is wide.
+  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  const Eigen::Rotation2Dd turn(car.yaw);
+  for (double depth = 0.0; depth <= 1.7; depth += 0.05) {
+    for (double across = -0.85; across <= 0.85; across += 0.05) {
+      const Eigen::Vector2d p = car.centre + turn * Eigen::Vector2d(-2.25 + depth, across);
+      seen.emplace_back(p.x(), p.y(), 1.5);
+    }
+  }
+  expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
+}
+
 TEST(GeometricFitTest, ADimensionLongerThanThePriorStays) {
   const GroundPlane ground = road();
   StandingBox van;

@@ -157,7 +157,8 @@ AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d
     if (high - low >= wanted) {
       continue;
     }
-    const bool grows_up = std::abs(seen_from[axis] - low) <= std::abs(seen_from[axis] - high);
+    // The end nearer the sensor stays (for a face seen edge on, low == high: the sensor's side).
+    const bool grows_up = seen_from[axis] <= (low + high) / 2;
     const double seen_end = grows_up ? high : low;
     const double direction = grows_up ? 1.0 : -1.0;
     double growth = wanted - (high - low);

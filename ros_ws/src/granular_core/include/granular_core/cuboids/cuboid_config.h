@@ -49,7 +49,7 @@ struct LShapeConfig {
   /// face hit by many rings does not outweigh one hit by few (and the search costs what the
   /// footprint's outline does, not the point count).
   double cell = 0.05;
-  double contour_step_deg = 0.0;  ///< deg; 0: every point
+  double contour_step_deg = 0.5;  ///< deg; 0: every point
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {

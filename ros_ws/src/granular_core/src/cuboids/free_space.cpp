@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "granular_core/geometry/fast_atan2.h"
+
 namespace granular {
 
 FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSpaceConfig& config)
@@ -23,7 +25,7 @@ FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSp
     const double range = p.head<2>().norm();
     const double height = ground.heightOf(p);
     const std::size_t bin =
-        static_cast<std::size_t>((std::atan2(p.y(), p.x()) + M_PI) / bin_) % bins;
+        static_cast<std::size_t>((fastAtan2(p.y(), p.x()) + M_PI) / bin_) % bins;
     float reach = 0.0f;
     if (height >= config.body_min && height <= config.body_max) {
       blocked_[bin] = std::min(blocked_[bin], static_cast<float>(range));
@@ -43,7 +45,7 @@ bool FreeSpace::seenEmpty(const Eigen::Vector3d& point) const {
   }
   const double range = point.head<2>().norm();
   const std::size_t bin =
-      static_cast<std::size_t>((std::atan2(point.y(), point.x()) + M_PI) / bin_) % blocked_.size();
+      static_cast<std::size_t>((fastAtan2(point.y(), point.x()) + M_PI) / bin_) % blocked_.size();
   return blocked_[bin] > range && reach_[bin] > range;
 }
 

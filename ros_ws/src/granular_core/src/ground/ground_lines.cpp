@@ -4,6 +4,7 @@
 #include <limits>
 #include <vector>
 
+#include "granular_core/geometry/fast_atan2.h"
 #include "granular_core/ground/ground.h"
 
 namespace granular {
@@ -124,26 +125,6 @@ std::vector<GroundLine> sectorGroundLines(const std::vector<BinPoint>& bins,
     }
   }
   return ground;
-}
-
-// atan2(y, x) in (-pi, pi] within 1e-4 rad (a minimax polynomial on [0, 1]): sectors are
-// degrees wide, and the library's atan2 was a third of the stage's time.
-double fastAtan2(double y, double x) {
-  const double ax = std::abs(x), ay = std::abs(y);
-  const double big = std::max(ax, ay);
-  if (big == 0.0) {
-    return 0.0;
-  }
-  const double a = std::min(ax, ay) / big;
-  const double s = a * a;
-  double r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
-  if (ay > ax) {
-    r = M_PI / 2 - r;
-  }
-  if (x < 0.0) {
-    r = M_PI - r;
-  }
-  return y < 0.0 ? -r : r;
 }
 
 }  // namespace

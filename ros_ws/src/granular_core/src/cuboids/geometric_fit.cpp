@@ -8,9 +8,6 @@
 namespace granular {
 namespace {
 
-// m: a highest point this near the height cap reached it.
-constexpr double kCapReach = 0.1;
-
 // The prior of `classes` whose height is nearest `height`; the first on a tie. With `capped`
 // (the points were cut at `height`), the shortest of those at least `height` high and longer
 // than `length` seen, when there is one.
@@ -53,7 +50,10 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
   }
   AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config_.lshape);
   const Eigen::Vector2d seen = rectangle.extent();
-  const bool capped = object.height_cap && levelled->top >= *object.height_cap - kCapReach;
+  const double cap_reach =
+      std::max(config_.geometric.cap_reach,
+               levelled->range * std::tan(config_.geometric.cap_reach_deg * M_PI / 180.0));
+  const bool capped = object.height_cap && levelled->top >= *object.height_cap - cap_reach;
   const SizePrior* prior =
       seen.maxCoeff() >= config_.geometric.min_extent
           ? choosePrior(config_, levelled->top, capped, seen.maxCoeff())

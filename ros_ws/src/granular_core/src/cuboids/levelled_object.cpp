@@ -16,14 +16,12 @@ namespace {
 void dropOverhang(LevelledObject& object, const ObjectPointsConfig& band) {
   std::vector<double> heights;
   heights.reserve(object.points.size());
-  double nearest = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& point : object.points) {
     heights.push_back(point.z());
-    nearest = std::min(nearest, (point.head<2>() - object.sensor).norm());
   }
   std::sort(heights.begin(), heights.end());
-  const double gap =
-      std::max(band.overhang_gap, nearest * std::tan(band.overhang_gap_deg * M_PI / 180.0));
+  const double gap = std::max(band.overhang_gap,
+                              object.range * std::tan(band.overhang_gap_deg * M_PI / 180.0));
   const double most_above = band.overhang_share * static_cast<double>(heights.size());
   for (std::size_t i = 1; i < heights.size(); ++i) {
     if (static_cast<double>(heights.size() - i) > most_above) {
@@ -74,6 +72,10 @@ std::optional<LevelledObject> levelObject(const ObjectView& object,
     return std::nullopt;
   }
   levelled.sensor = (levelled.levelling * object.sensor).head<2>();
+  levelled.range = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : levelled.points) {
+    levelled.range = std::min(levelled.range, (point.head<2>() - levelled.sensor).norm());
+  }
   dropOverhang(levelled, band);
   return levelled;
 }

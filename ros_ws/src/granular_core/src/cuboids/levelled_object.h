@@ -27,6 +27,7 @@ struct LevelledObject {
   std::vector<Eigen::Vector3d> points;  ///< levelled, within the height band
   Eigen::Vector2d sensor = Eigen::Vector2d::Zero();  ///< the sensor's x, y, levelled
   double top = 0.0;                                   ///< m, the highest point's z
+  double range = 0.0;  ///< m, from the sensor to the nearest point, seen from above
 };
 
 /// The object levelled on its ground (ObjectView says which) and its points within the height

@@ -260,6 +260,34 @@ TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
   EXPECT_LT((fitted->box.centre() - expected).head<2>().norm(), 0.02);
 }
 
+TEST(GeometricFitTest, AFarTruckWhoseTopRingIsBelowTheCapStillReachesIt) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"BoxTruck", {7.2, 2.4, 3.3}},
+                   {"SchoolBus", {11.0, 2.5, 3.1}}};
+  config.geometric.classes = {"Car", "BoxTruck", "SchoolBus"};
+  StandingBox truck;
+  truck.centre = {36.6, 0.0};
+  truck.size = {7.2, 2.4, 3.3};
+  // Its rear 33 m away; the highest ring on it 2.75 m up, the next one over the 3 m cap.
+  const std::vector<Eigen::Vector3d> seen =
+      seenFaces(truck, sensorInRoadFrame(ground), 0.05,
+                [](double, double, double h) { return h <= 2.75; });
+  ObjectView object = view(seen, ground);
+  object.height_cap = 3.0;
+  // 0.7 deg at 33 m is 0.40 m: the top is within reach of the cap, and the truck may be taller.
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
+  EXPECT_LT(centreError(fitted->box, ground, StandingBox{truck.centre, 0.0, {7.2, 2.4, 2.75}}),
+            0.05);
+  // Judged by its height alone, 2.75 m is nearest the bus's 3.1 m.
+  config.geometric.cap_reach_deg = 0.0;
+  const std::optional<FittedCuboid> bus = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(bus);
+  EXPECT_NEAR(bus->box.size().x(), 11.0, 1e-9);
+}
+
 TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {
   const GroundPlane ground = road();
   CuboidConfig config = carPrior();

@@ -150,6 +150,12 @@ struct GeometricFitConfig {
   double min_extent = 1.0;
   /// Objects with fewer points get the prior's height instead of their highest point's.
   std::size_t height_points = 10;
+  /// An object reaches its height cap (ObjectView::height_cap: it may be taller than seen)
+  /// when its top is within cap_reach m of the cap, or within cap_reach_deg seen from the
+  /// sensor: the ring above the top may have passed over the cap (the simulator's rings are
+  /// 0.66 deg apart, 0.38 m at 33 m; KITTI's about 0.4 deg).
+  double cap_reach = 0.1;
+  double cap_reach_deg = 0.7;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -158,6 +164,8 @@ struct GeometricFitConfig {
     visit("width_tolerance", self.width_tolerance, nonNegative("m"));
     visit("min_extent", self.min_extent, nonNegative("m"));
     visit("height_points", self.height_points, nonNegative("points"));
+    visit("cap_reach", self.cap_reach, nonNegative("m"));
+    visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));
   }
 };
 

@@ -1,8 +1,10 @@
 """Behind scripts/bench_online: plays the test bag through launch/online.launch per method."""
 import argparse
+import copy
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
 import rosbag
@@ -20,6 +22,25 @@ def models_of(evaluation, method):
     return os.path.join(evaluation, "classifiers", f"{method}.yml")
 
 
+def crowded(bag, objects, folder):
+    """A copy of `bag` in `folder` whose detection arrays repeat their boxes (new ids) until they
+    hold at least `objects`: a frame as crowded as a busy real street, from the same clouds."""
+    path = os.path.join(folder, f"crowded_{objects}.bag")
+    with rosbag.Bag(bag) as reader, rosbag.Bag(path, "w") as writer:
+        for topic, message, stamp in reader.read_messages():
+            if message._type == "lgsvl_msgs/Detection3DArray" and message.detections:
+                given = list(message.detections)
+                copies = 0
+                while len(message.detections) < objects:
+                    copies += 1
+                    for detection in given[:objects - len(message.detections)]:
+                        repeated = copy.deepcopy(detection)
+                        repeated.id = detection.id + 100000 * copies
+                        message.detections.append(repeated)
+            writer.write(topic, message, stamp)
+    return path
+
+
 def main():
     parser = argparse.ArgumentParser(prog="bench_online")
     parser.add_argument("--evaluation", required=True)
@@ -30,8 +51,14 @@ def main():
     parser.add_argument("--methods", default="svm,knn,icp,ndt")
     parser.add_argument("--track-vote", choices=("true", "false"), default="true",
                         help="online.launch's track_vote (default %(default)s)")
+    parser.add_argument("--objects", type=int, default=0,
+                        help="repeat each frame's boxes until it holds at least N (a crowded "
+                             "frame; the same clouds, so each copy costs what its box does)")
     args = parser.parse_args()
     bag = os.path.join(args.evaluation, "..", "test.bag")
+    scratch = tempfile.TemporaryDirectory()
+    if args.objects > 0:
+        bag = crowded(bag, args.objects, scratch.name)
     # The frames with detections (bag_to_files kept them): each should get an answer.
     pairs = len(os.listdir(os.path.join(args.evaluation, "test", "frames", "pcd")))
     with rosbag.Bag(bag) as reader:

@@ -169,8 +169,8 @@ AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d
     if (seen_empty && high - low >= wanted / 2) {
       // Just behind the face turned to the sensor, continued: the sensor would have hit it.
       const int across = 1 - axis;
-      const bool near_min = std::abs(seen_from[across] - rectangle.min[across]) <=
-                            std::abs(seen_from[across] - rectangle.max[across]);
+      const bool near_min =
+          seen_from[across] <= (rectangle.min[across] + rectangle.max[across]) / 2;
       Eigen::Vector2d probe;
       probe[across] = near_min ? rectangle.min[across] + inset : rectangle.max[across] - inset;
       for (double beyond = step; beyond <= growth; beyond += step) {

@@ -4,6 +4,8 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +25,19 @@ sigset_t stopSignals() {
   return signals;
 }
 
+// Set by the signal thread before it removes the partial output: from then on it, not the
+// work, ends the process (with 128 + the signal), however the work fares meanwhile.
+std::atomic<bool> g_stopping{false};
+
+// The work ended (done or failed): if a signal is being handled, a write that failed because
+// its folder was just removed is no failure of its own; wait for the signal thread's _exit.
+int unlessStopping(int status) {
+  while (g_stopping.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return status;
+}
+
 // "NAME: " on a line of its own, past a progress line that a terminal leaves unfinished.
 std::string messagePrefix(const std::string& name) {
   return (ProgressReport::terminal() ? "\n" : "") + name + ": ";
@@ -37,6 +52,7 @@ void stopCleanlyOnSignals(const std::string& name) {
     int signal_number = 0;
     while (sigwait(&signals, &signal_number) != 0) {
     }
+    g_stopping.store(true);
     const bool removed = !granular::removePendingOutputs().empty();
     const std::string line = messagePrefix(name) + "interrupted by SIG" +
                              sigabbrev_np(signal_number) +
@@ -70,13 +86,17 @@ int Tool::run(int argc, char** argv, const std::function<void()>& configure,
   try {
     work();
   } catch (const UsageError& error) {
-    std::cerr << messagePrefix(name_) << error.what() << '\n';
-    return kExitBadUsage;
+    if (!g_stopping.load()) {
+      std::cerr << messagePrefix(name_) << error.what() << '\n';
+    }
+    return unlessStopping(kExitBadUsage);
   } catch (const std::exception& error) {
-    std::cerr << messagePrefix(name_) << error.what() << '\n';
-    return kExitFailed;
+    if (!g_stopping.load()) {
+      std::cerr << messagePrefix(name_) << error.what() << '\n';
+    }
+    return unlessStopping(kExitFailed);
   }
-  return kExitDone;
+  return unlessStopping(kExitDone);
 }
 
 std::function<void(std::size_t, std::size_t)> Tool::progress(const std::string& what,

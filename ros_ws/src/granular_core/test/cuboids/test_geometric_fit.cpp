@@ -39,6 +39,15 @@ CuboidConfig carPrior() {
   return config;
 }
 
+// The test car's, a box truck's and a bus's priors: the truck the taller, the bus the longer.
+CuboidConfig carTruckAndBusPriors() {
+  CuboidConfig config = carPrior();
+  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"BoxTruck", {7.2, 2.4, 3.3}},
+                   {"SchoolBus", {11.0, 2.5, 3.1}}};
+  config.geometric.classes = {"Car", "BoxTruck", "SchoolBus"};
+  return config;
+}
+
 // The sensor-frame view of points given in the road's frame.
 ObjectView view(const std::vector<Eigen::Vector3d>& on_road, const GroundPlane& ground) {
   ObjectView object;
@@ -230,10 +239,7 @@ TEST(GeometricFitTest, AFewPointsOverAGapAboveTheRoofAreAnOverhang) {
 
 TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
   const GroundPlane ground = road();
-  CuboidConfig config = carPrior();
-  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"BoxTruck", {7.2, 2.4, 3.3}},
-                   {"SchoolBus", {11.0, 2.5, 3.1}}};
-  config.geometric.classes = {"Car", "BoxTruck", "SchoolBus"};
+  CuboidConfig config = carTruckAndBusPriors();
   StandingBox truck;
   truck.centre = {12.0, 3.0};
   truck.yaw = 5.0 * kDeg;
@@ -262,10 +268,7 @@ TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
 
 TEST(GeometricFitTest, AFarTruckWhoseTopRingIsBelowTheCapStillReachesIt) {
   const GroundPlane ground = road();
-  CuboidConfig config = carPrior();
-  config.priors = {{"Car", {4.5, 1.8, 1.5}}, {"BoxTruck", {7.2, 2.4, 3.3}},
-                   {"SchoolBus", {11.0, 2.5, 3.1}}};
-  config.geometric.classes = {"Car", "BoxTruck", "SchoolBus"};
+  CuboidConfig config = carTruckAndBusPriors();
   StandingBox truck;
   truck.centre = {36.6, 0.0};
   truck.size = {7.2, 2.4, 3.3};

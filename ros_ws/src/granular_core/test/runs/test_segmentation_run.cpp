@@ -1,6 +1,5 @@
 // evaluateSegmentation: the box-free path scored against true boxes, with the segments' own
 // boxes or with the cuboids fitted to them.
-#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -9,6 +8,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/runs/segmentation_run.h"
 #include "support/detections_json.h"
+#include "support/road_scene.h"
 #include "support/temporary_folder.h"
 #include "support/visible_faces.h"
 
@@ -16,13 +16,13 @@ namespace granular {
 namespace {
 using testing_support::detectionJson;
 using testing_support::frameJson;
+using testing_support::kSensorHeight;
+using testing_support::road;
 using testing_support::seenFaces;
 using testing_support::StandingBox;
 using testing_support::TemporaryFolderTest;
 
 namespace fs = std::filesystem;
-
-constexpr double kSensorHeight = 1.73;
 
 // One frame: a road 1.73 m below the sensor and a 4.5 x 1.8 x 1.5 m car 12 m straight ahead,
 // seen from behind (its rear face only), with its true box.
@@ -34,14 +34,7 @@ class EvaluateSegmentationTest : public TemporaryFolderTest {
     const std::string stamp = "1586102742000765440";
     StandingBox car;
     car.centre = {12.0, 0.0};
-    Cloud cloud;
-    for (double range = 3.0; range < 40.0; range *= 1.03) {
-      for (double azimuth = -M_PI; azimuth < M_PI; azimuth += 0.4 * M_PI / 180.0) {
-        cloud.push_back(PointXYZIT(static_cast<float>(range * std::cos(azimuth)),
-                                   static_cast<float>(range * std::sin(azimuth)),
-                                   static_cast<float>(-kSensorHeight), 0, 0.0));
-      }
-    }
+    Cloud cloud = road();
     for (const Eigen::Vector3d& p :
          seenFaces(car, Eigen::Vector3d(0, 0, kSensorHeight), 0.05)) {
       cloud.push_back(PointXYZIT(static_cast<float>(p.x()), static_cast<float>(p.y()),

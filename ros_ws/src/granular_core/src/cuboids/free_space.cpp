@@ -24,8 +24,7 @@ FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSp
     }
     const double range = p.head<2>().norm();
     const double height = ground.heightOf(p);
-    const std::size_t bin =
-        static_cast<std::size_t>((fastAtan2(p.y(), p.x()) + M_PI) / bin_) % bins;
+    const std::size_t bin = binOf(p.x(), p.y());
     float reach = 0.0f;
     if (height >= config.body_min && height <= config.body_max) {
       blocked_[bin] = std::min(blocked_[bin], static_cast<float>(range));
@@ -44,9 +43,12 @@ bool FreeSpace::seenEmpty(const Eigen::Vector3d& point) const {
     return false;
   }
   const double range = point.head<2>().norm();
-  const std::size_t bin =
-      static_cast<std::size_t>((fastAtan2(point.y(), point.x()) + M_PI) / bin_) % blocked_.size();
+  const std::size_t bin = binOf(point.x(), point.y());
   return blocked_[bin] > range && reach_[bin] > range;
+}
+
+std::size_t FreeSpace::binOf(double x, double y) const {
+  return static_cast<std::size_t>((fastAtan2(y, x) + M_PI) / bin_) % blocked_.size();
 }
 
 }  // namespace granular

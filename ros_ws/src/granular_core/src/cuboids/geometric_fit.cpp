@@ -50,9 +50,8 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
   }
   AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config_.lshape);
   const Eigen::Vector2d seen = rectangle.extent();
-  const double cap_reach =
-      std::max(config_.geometric.cap_reach,
-               levelled->range * std::tan(config_.geometric.cap_reach_deg * M_PI / 180.0));
+  const double cap_reach = cuboids::spanAt(levelled->range, config_.geometric.cap_reach,
+                                           config_.geometric.cap_reach_deg);
   const bool capped = object.height_cap && levelled->top >= *object.height_cap - cap_reach;
   const SizePrior* prior =
       seen.maxCoeff() >= config_.geometric.min_extent

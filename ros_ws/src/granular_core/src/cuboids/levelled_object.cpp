@@ -20,8 +20,7 @@ void dropOverhang(LevelledObject& object, const ObjectPointsConfig& band) {
     heights.push_back(point.z());
   }
   std::sort(heights.begin(), heights.end());
-  const double gap = std::max(band.overhang_gap,
-                              object.range * std::tan(band.overhang_gap_deg * M_PI / 180.0));
+  const double gap = spanAt(object.range, band.overhang_gap, band.overhang_gap_deg);
   const double most_above = band.overhang_share * static_cast<double>(heights.size());
   for (std::size_t i = 1; i < heights.size(); ++i) {
     if (static_cast<double>(heights.size() - i) > most_above) {
@@ -39,6 +38,10 @@ void dropOverhang(LevelledObject& object, const ObjectPointsConfig& band) {
 }
 
 }  // namespace
+
+double spanAt(double range, double metres, double degrees) {
+  return std::max(metres, range * std::tan(degrees * M_PI / 180.0));
+}
 
 std::optional<LevelledObject> levelObject(const ObjectView& object,
                                           const ObjectPointsConfig& band) {

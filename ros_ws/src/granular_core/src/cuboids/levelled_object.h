@@ -30,6 +30,10 @@ struct LevelledObject {
   double range = 0.0;  ///< m, from the sensor to the nearest point, seen from above
 };
 
+/// m: the larger of `metres` and what `degrees` span, seen from the sensor, at `range` m (a
+/// scan's rings and returns spread apart with range).
+double spanAt(double range, double metres, double degrees);
+
 /// The object levelled on its ground (ObjectView says which) and its points within the height
 /// band of `config`, without an overhang over it; nullopt with fewer than config.min_points
 /// points.

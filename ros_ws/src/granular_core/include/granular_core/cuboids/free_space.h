@@ -3,6 +3,7 @@
 // empty (a car whose whole side was seen keeps its own length, whatever its class's mean).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,6 +28,9 @@ class FreeSpace {
   bool seenEmpty(const Eigen::Vector3d& point) const;
 
  private:
+  // The azimuth bin of x, y (the sensor frame's).
+  std::size_t binOf(double x, double y) const;
+
   double bin_;  // rad
   std::vector<float> blocked_;  // m, nearest return in the band
   std::vector<float> reach_;    // m, farthest a ray was seen to pass within the band

@@ -251,6 +251,24 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       }
     }
   }
+  // A cell whose four diagonal neighbours are all occupied holds no corner of its segment's
+  // footprint: the cells are half-open, so every point of the cell up and to the right lies
+  // strictly above and to the right of each of its points, and likewise for the other three
+  // quadrants; no direction has one of its points extreme. The footprint's hull is taken over
+  // the other cells' points only (on a near car most cells are inner), with the same result.
+  std::vector<bool> inner(occupied.size(), false);
+  for (std::size_t k = 0; k < occupied.size(); ++k) {
+    const int row = static_cast<int>(occupied[k] / grid.side);
+    const int col = static_cast<int>(occupied[k] % grid.side);
+    if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
+      continue;
+    }
+    const auto occupiedAt = [&](int r, int c) {
+      return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
+    };
+    inner[k] = occupiedAt(row - 1, col - 1) && occupiedAt(row - 1, col + 1) &&
+               occupiedAt(row + 1, col - 1) && occupiedAt(row + 1, col + 1);
+  }
   for (const std::uint32_t cell : occupied) {
     slot_[cell] = -1;  // empty again for the next frame
   }
@@ -262,6 +280,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // Each component's points, components in the order of their first cell.
   std::vector<std::int32_t> component_of_root(occupied.size(), -1);
   std::vector<std::vector<std::size_t>> members;
+  std::vector<std::vector<std::uint32_t>> outline_cells;  // each component's cells not inner
   std::vector<std::size_t> cell_counts;
   std::vector<double> column_tops;
   for (std::size_t k = 0; k < occupied.size(); ++k) {
@@ -269,6 +288,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     if (component_of_root[root] < 0) {
       component_of_root[root] = static_cast<std::int32_t>(members.size());
       members.emplace_back();
+      outline_cells.emplace_back();
       cell_counts.push_back(0);
       column_tops.push_back(0.0);
     }
@@ -276,6 +296,9 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     ++cell_counts[id];
     column_tops[id] = std::max(column_tops[id], double(top_of_cell[k]));
     members[id].insert(members[id].end(), by_cell.begin() + start[k], by_cell.begin() + start[k + 1]);
+    if (!inner[k]) {
+      outline_cells[id].push_back(static_cast<std::uint32_t>(k));
+    }
   }
 
   // Each component through the gates, cheapest first: most components are a few stray
@@ -294,12 +317,17 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     shape.top = -std::numeric_limits<double>::infinity();
     shape.bottom = std::numeric_limits<double>::infinity();
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d high = -low;
     for (const std::size_t i : indices) {
       min_z = std::min(min_z, double(cloud[i].z));
       max_z = std::max(max_z, double(cloud[i].z));
       shape.top = std::max(shape.top, double(heights[i]));
       shape.bottom = std::min(shape.bottom, double(heights[i]));
-      mean += Eigen::Vector2d(cloud[i].x, cloud[i].y);
+      const Eigen::Vector2d xy(cloud[i].x, cloud[i].y);
+      mean += xy;
+      low = low.cwiseMin(xy);
+      high = high.cwiseMax(xy);
     }
     shape.column_top = column_tops[id];
     shape.range = (mean / static_cast<double>(indices.size())).norm();
@@ -315,10 +343,18 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       reject("max_column_top");
       continue;
     }
+    // A segment spreading farther along x or y than the diagonal of the largest footprint
+    // allowed has a footprint too long or too wide, whatever its rectangle: a building or a
+    // row of trees, gated without its hull.
+    if ((high - low).maxCoeff() > std::hypot(gates.max_length, gates.max_width)) {
+      reject("max_size");
+      continue;
+    }
     std::vector<Eigen::Vector2d> xy;
-    xy.reserve(indices.size());
-    for (const std::size_t i : indices) {
-      xy.emplace_back(cloud[i].x, cloud[i].y);
+    for (const std::uint32_t k : outline_cells[id]) {
+      for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
+        xy.emplace_back(cloud[by_cell[c]].x, cloud[by_cell[c]].y);
+      }
     }
     shape.footprint = minimumAreaRectangle(xy);
     const Rectangle& footprint = shape.footprint;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "granular_core/geometry/footprint.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "support/road_scene.h"
 
@@ -79,6 +80,42 @@ TEST(ObjectSegmentationTest, FarCellsJoinAcrossTheGapsBetweenReturns) {
   ASSERT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 1u);
   config.link_azimuth_steps = 0.0;  // touching cells only: each of the 14 columns alone
   EXPECT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 14u);
+}
+
+TEST(ObjectSegmentationTest, AFilledFootprintGetsTheRectangleOfAllItsPoints) {
+  // Irregular heaps seen from above, sparse to dense (many of their cells are surrounded by
+  // occupied cells, whose points the footprint's hull skips): each box is the minimum-area
+  // rectangle of every one of its segment's points.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), fraction(0.0, 1.0);
+  for (int heap = 0; heap < 40; ++heap) {
+    Cloud cloud = road();
+    const double yaw = M_PI * fraction(random);
+    const double length = 1.0 + 3.0 * fraction(random), taper = fraction(random);
+    const int points = 200 + static_cast<int>(3000 * fraction(random));
+    for (int i = 0; i < points; ++i) {
+      const double u = length * unit(random);
+      const double v = unit(random) * (1.0 - taper * std::abs(u) / length);
+      cloud.push_back(PointXYZIT(static_cast<float>(12.0 + u * std::cos(yaw) - v * std::sin(yaw)),
+                                 static_cast<float>(-5.0 + u * std::sin(yaw) + v * std::cos(yaw)),
+                                 static_cast<float>(-kSensorHeight + 0.3 + fraction(random)), 0,
+                                 0.0));
+    }
+    const ObjectSegmentation result = segmentObjects(cloud, roadGround());
+    ASSERT_FALSE(result.segments.empty()) << "heap " << heap;
+    for (const Segment& segment : result.segments) {  // a sparse heap may come in parts
+      std::vector<Eigen::Vector2d> xy;
+      for (const std::size_t i : segment.indices) {
+        xy.emplace_back(cloud[i].x, cloud[i].y);
+      }
+      const Rectangle all = minimumAreaRectangle(xy);
+      EXPECT_DOUBLE_EQ(segment.box.centre().x(), all.centre.x()) << "heap " << heap;
+      EXPECT_DOUBLE_EQ(segment.box.centre().y(), all.centre.y()) << "heap " << heap;
+      EXPECT_NEAR(std::remainder(segment.box.yaw() - all.yaw, M_PI), 0.0, 1e-12);
+      EXPECT_NEAR(segment.box.size().x(), all.length + 0.01, 1e-12);  // 5 mm edge allowance
+      EXPECT_NEAR(segment.box.size().y(), all.width + 0.01, 1e-12);
+    }
+  }
 }
 
 TEST(ObjectSegmentationTest, ValidateNamesTheField) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -9,31 +10,154 @@
 
 namespace granular {
 
-Cloud cropToObjectFrame(const Cloud& cloud, const OrientedBox& box,
-                        const Eigen::Vector3d& padding) {
-  const Eigen::Isometry3d to_object = box.sensorToObject();
-  const Eigen::Vector3d& centre = box.centre();
-  const Eigen::Vector3d object_centre(0.0, 0.0, box.size().z() / 2.0);
-  const Eigen::Vector3d limit = box.size() / 2.0 + padding;
-  // The box's circumscribed sphere rejects most points with a few flops and no rotation.
-  const double radius_squared = limit.squaredNorm();
+namespace {
 
-  Cloud object;
-  for (const PointXYZIT& point : cloud.points) {
+// A box's crop test, shared by the whole-cloud scan and the cropper so that both keep the
+// same points.
+class BoxTest {
+ public:
+  BoxTest(const OrientedBox& box, const Eigen::Vector3d& padding)
+      : to_object_(box.sensorToObject()),
+        centre_(box.centre()),
+        object_centre_(0.0, 0.0, box.size().z() / 2.0),
+        limit_(box.size() / 2.0 + padding),
+        // The box's circumscribed sphere rejects most points with a few flops, no rotation.
+        radius_squared_(limit_.squaredNorm()) {}
+
+  const Eigen::Vector3d& centre() const { return centre_; }
+  double radius() const { return std::sqrt(radius_squared_); }
+
+  // Appends `point` in the object frame to `object` when it lies in the padded box.
+  void keepIfInside(const PointXYZIT& point, Cloud& object) const {
     const Eigen::Vector3d sensor(point.x, point.y, point.z);
     // Written so that NaN and infinite points fail it.
-    if (!((sensor - centre).squaredNorm() <= radius_squared)) {
-      continue;
+    if (!((sensor - centre_).squaredNorm() <= radius_squared_)) {
+      return;
     }
-    const Eigen::Vector3d local = to_object * sensor;
-    if (((local - object_centre).array().abs() <= limit.array()).all()) {
+    const Eigen::Vector3d local = to_object_ * sensor;
+    if (((local - object_centre_).array().abs() <= limit_.array()).all()) {
       object.points.emplace_back(static_cast<float>(local.x()), static_cast<float>(local.y()),
                                  static_cast<float>(local.z()), point.intensity, point.timestamp);
     }
   }
+
+ private:
+  Eigen::Isometry3d to_object_;
+  Eigen::Vector3d centre_;
+  Eigen::Vector3d object_centre_;
+  Eigen::Vector3d limit_;
+  double radius_squared_;
+};
+
+void finishCloud(Cloud& object) {
   object.width = static_cast<std::uint32_t>(object.points.size());
   object.height = 1;
   object.is_dense = true;
+}
+
+bool finiteXyz(const PointXYZIT& point) {
+  return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z);
+}
+
+// The grid's cells at most, whatever the points' spread (4 million: 16 MB of cell starts).
+constexpr double kMaxCells = 4.0e6;
+
+}  // namespace
+
+Cloud cropToObjectFrame(const Cloud& cloud, const OrientedBox& box,
+                        const Eigen::Vector3d& padding) {
+  const BoxTest test(box, padding);
+  Cloud object;
+  for (const PointXYZIT& point : cloud.points) {
+    test.keepIfInside(point, object);
+  }
+  finishCloud(object);
+  return object;
+}
+
+FrameCropper::FrameCropper(const Cloud& cloud, double cell_size) : cloud_(cloud) {
+  if (!(cell_size > 0.0) || !std::isfinite(cell_size)) {
+    throw std::invalid_argument("FrameCropper: cell_size must be a positive number of metres");
+  }
+  double max_x = -std::numeric_limits<double>::infinity(), max_y = max_x;
+  min_x_ = std::numeric_limits<double>::infinity();
+  min_y_ = min_x_;
+  for (const PointXYZIT& point : cloud.points) {
+    if (finiteXyz(point)) {
+      min_x_ = std::min(min_x_, double(point.x));
+      max_x = std::max(max_x, double(point.x));
+      min_y_ = std::min(min_y_, double(point.y));
+      max_y = std::max(max_y, double(point.y));
+    }
+  }
+  if (!(min_x_ <= max_x)) {  // no finite point
+    start_.assign(1, 0);
+    return;
+  }
+  const double spread = std::max(max_x - min_x_, max_y - min_y_);
+  cell_size_ = std::max(cell_size, spread / std::sqrt(kMaxCells));
+  columns_ = static_cast<std::size_t>((max_x - min_x_) / cell_size_) + 1;
+  rows_ = static_cast<std::size_t>((max_y - min_y_) / cell_size_) + 1;
+  // A counting sort of the point indices by cell keeps each cell's points in cloud order.
+  std::vector<std::uint32_t> cell_of(cloud.size());
+  start_.assign(columns_ * rows_ + 1, 0);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const PointXYZIT& point = cloud.points[i];
+    if (!finiteXyz(point)) {
+      cell_of[i] = static_cast<std::uint32_t>(columns_ * rows_);  // in no cell
+      continue;
+    }
+    const auto column = std::min(columns_ - 1, static_cast<std::size_t>((point.x - min_x_) / cell_size_));
+    const auto row = std::min(rows_ - 1, static_cast<std::size_t>((point.y - min_y_) / cell_size_));
+    cell_of[i] = static_cast<std::uint32_t>(row * columns_ + column);
+    ++start_[cell_of[i] + 1];
+  }
+  for (std::size_t c = 0; c < columns_ * rows_; ++c) {
+    start_[c + 1] += start_[c];
+  }
+  by_cell_.resize(start_.back());
+  std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cell_of[i] < columns_ * rows_) {
+      by_cell_[next[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    }
+  }
+}
+
+Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding) const {
+  const BoxTest test(box, padding);
+  Cloud object;
+  // A hair wider than the sphere test, whose rounding could pass a point a last bit farther.
+  const double radius = test.radius() * (1.0 + 1e-9) + 1e-9;
+  const Eigen::Vector3d& centre = test.centre();
+  // The cells the box's circumscribed circle (from above) touches, clamped to the grid.
+  const auto cellRange = [this](double low, double high, double origin, std::size_t count) {
+    const double first = std::floor((low - origin) / cell_size_);
+    const double last = std::floor((high - origin) / cell_size_);
+    return std::pair<std::size_t, std::size_t>(
+        static_cast<std::size_t>(std::clamp(first, 0.0, double(count))),
+        static_cast<std::size_t>(std::clamp(last + 1.0, 0.0, double(count))));
+  };
+  if (columns_ == 0 || !std::isfinite(radius) || !centre.allFinite()) {
+    finishCloud(object);
+    return object;
+  }
+  const auto [first_column, end_column] =
+      cellRange(centre.x() - radius, centre.x() + radius, min_x_, columns_);
+  const auto [first_row, end_row] = cellRange(centre.y() - radius, centre.y() + radius, min_y_, rows_);
+  std::vector<std::uint32_t> near;
+  if (first_column < end_column) {
+    for (std::size_t row = first_row; row < end_row; ++row) {
+      const std::size_t cells = row * columns_;
+      near.insert(near.end(), by_cell_.begin() + start_[cells + first_column],
+                  by_cell_.begin() + start_[cells + end_column]);
+    }
+  }
+  std::sort(near.begin(), near.end());  // cloud order, as the whole-cloud scan keeps them
+  for (const std::uint32_t i : near) {
+    test.keepIfInside(cloud_.points[i], object);
+  }
+  finishCloud(object);
   return object;
 }
 
@@ -42,9 +166,14 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
   FrameExtraction result;
   result.non_finite_points = static_cast<std::size_t>(
       std::count_if(cloud.points.begin(), cloud.points.end(), [](const PointXYZIT& point) {
-        return !(std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z));
+        return !finiteXyz(point);
       }));
 
+  // Bucketing the points costs about one pass over them: worth it from two boxes on.
+  std::optional<FrameCropper> cropper;
+  if (detections.size() >= 2) {
+    cropper.emplace(cloud);
+  }
   std::unordered_map<std::string, std::size_t> seen_per_label;
   for (std::size_t i = 0; i < detections.size(); ++i) {
     const Detection& detection = detections[i];
@@ -72,7 +201,8 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
              std::to_string(config.max_box_size) + " m); skipped as implausible");
       continue;
     }
-    Cloud object = cropToObjectFrame(cloud, *box, config.padding);
+    Cloud object = cropper ? cropper->crop(*box, config.padding)
+                           : cropToObjectFrame(cloud, *box, config.padding);
     result.objects.push_back({detection, *box, label_index, std::move(object)});
   }
   return result;

@@ -162,6 +162,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
             .count());
     evaluation.points += cloud.size();
 
+    const FrameCropper cropper(cloud);
     std::vector<std::string> labels(segments.size(), "unknown");
     std::vector<OrientedBox> boxes, kept, truth, visible;
     for (std::size_t s = 0; s < segments.size(); ++s) {
@@ -169,7 +170,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       const bool in_view = counted(box.centre(), options);
       if (options.classifier && (in_view || saved)) {
         // As fit_cuboids decides: on the segment's own box.
-        const Cloud object = cropToObjectFrame(cloud, segments[s].box, Eigen::Vector3d::Zero());
+        const Cloud object = cropper.crop(segments[s].box, Eigen::Vector3d::Zero());
         labels[s] = options.classifier->predict(options.classifier->features(object));
       }
       if (!in_view) {
@@ -193,7 +194,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
         continue;
       }
       truth.push_back(box);
-      if (cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero()).size() >= options.min_points) {
+      if (cropper.crop(box, Eigen::Vector3d::Zero()).size() >= options.min_points) {
         visible.push_back(box);
       }
     }

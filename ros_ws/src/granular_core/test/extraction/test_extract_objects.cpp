@@ -217,5 +217,57 @@ TEST_F(TiltedBoxTest, LabelFilterKeepsPerLabelIndices) {
   EXPECT_EQ(all.objects[2].label_index, 2u);
 }
 
+TEST(FrameCropperTest, CropsTheSamePointsInTheSameOrderAsTheWholeCloudScan) {
+  // A street-sized cloud with non-finite points and a far stray one, and boxes of every
+  // orientation and size, some padded, some off the cloud or on cell borders: each crop must
+  // equal cropToObjectFrame's, point for point.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> across(-40.0, 40.0), up(-2.0, 3.0), unit(0.0, 1.0);
+  Cloud cloud;
+  for (int i = 0; i < 30000; ++i) {
+    cloud.push_back(PointXYZIT(static_cast<float>(across(random)),
+                               static_cast<float>(across(random)),
+                               static_cast<float>(up(random)), static_cast<std::uint8_t>(i % 256),
+                               static_cast<double>(i)));
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cloud.push_back(PointXYZIT(nan, 1.0f, 0.0f, 0, 0.0));
+  cloud.push_back(PointXYZIT(3.0f, std::numeric_limits<float>::infinity(), 0.0f, 0, 0.0));
+  cloud.push_back(PointXYZIT(5000.0f, -3000.0f, 0.0f, 0, 0.0));
+  const FrameCropper cropper(cloud);
+  std::size_t cropped = 0;
+  for (int b = 0; b < 300; ++b) {
+    const Eigen::Vector3d centre(b % 7 == 0 ? std::round(across(random)) : across(random) * 1.2,
+                                 across(random) * 1.2, up(random));
+    const Eigen::Vector3d size(0.2 + 12.0 * unit(random), 0.2 + 3.0 * unit(random),
+                               0.5 + 3.0 * unit(random));
+    const OrientedBox box(centre,
+                          yawPitchRoll(6.3 * unit(random), 0.3 * unit(random), 0.3 * unit(random)),
+                          size);
+    const Eigen::Vector3d padding = Eigen::Vector3d::Constant(b % 3 == 0 ? 0.5 : 0.0);
+    const Cloud expected = cropToObjectFrame(cloud, box, padding);
+    const Cloud got = cropper.crop(box, padding);
+    ASSERT_EQ(got.size(), expected.size()) << "box " << b;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      ASSERT_EQ(got[i].timestamp, expected[i].timestamp) << "box " << b << ", point " << i;
+      ASSERT_EQ(got[i].x, expected[i].x);
+    }
+    cropped += got.size();
+  }
+  EXPECT_GT(cropped, 3000u);  // the boxes held points (5,427)
+  // A stray box far from every point, and a cloud without a finite point, crop nothing.
+  EXPECT_TRUE(cropper.crop(OrientedBox(Eigen::Vector3d(-900.0, 900.0, 0.0),
+                                       Eigen::Quaterniond::Identity(), Eigen::Vector3d::Ones()),
+                           Eigen::Vector3d::Zero())
+                  .empty());
+  Cloud nothing;
+  nothing.push_back(PointXYZIT(nan, nan, nan, 0, 0.0));
+  EXPECT_TRUE(FrameCropper(nothing)
+                  .crop(OrientedBox(Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity(),
+                                    Eigen::Vector3d::Ones()),
+                        Eigen::Vector3d::Zero())
+                  .empty());
+}
+
 }  // namespace
 }  // namespace granular

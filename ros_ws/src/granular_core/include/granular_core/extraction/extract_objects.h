@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,31 @@ struct FrameExtraction {
 /// boundary counts as inside), mapped into the box's object frame. Non-finite points are skipped.
 Cloud cropToObjectFrame(const Cloud& cloud, const OrientedBox& box,
                         const Eigen::Vector3d& padding);
+
+/// One frame's points bucketed by their x-y cell, for cropping many boxes out of it: a box
+/// then tests only the points of the cells under it instead of the whole cloud (a KITTI frame
+/// of 120,000 points with 200 boxes: 24 million point tests become about 200 times the
+/// points near a box). crop() gives what cropToObjectFrame gives, the same points in the same
+/// order. The cloud must outlive the cropper and stay unchanged.
+class FrameCropper {
+ public:
+  /// Buckets `cloud`'s finite points into square cells of `cell_size` metres (larger where
+  /// the points spread so far that the grid would exceed about four million cells).
+  explicit FrameCropper(const Cloud& cloud, double cell_size = 1.0);
+
+  /// cropToObjectFrame(cloud, box, padding), looking only at the cells under the box.
+  Cloud crop(const OrientedBox& box, const Eigen::Vector3d& padding) const;
+
+ private:
+  const Cloud& cloud_;
+  double cell_size_ = 1.0;
+  double min_x_ = 0.0, min_y_ = 0.0;
+  std::size_t columns_ = 0, rows_ = 0;
+  /// Point indices by cell (row after row), ascending within a cell; cell c holds
+  /// by_cell_[start_[c]] up to by_cell_[start_[c + 1]].
+  std::vector<std::uint32_t> by_cell_;
+  std::vector<std::uint32_t> start_;
+};
 
 /// Extracts every detection of one frame (label filter and padding from `config`; its
 /// thresholds are applied when writing, not here). Invalid detections are reported in

@@ -27,17 +27,25 @@ class BoxTest {
   const Eigen::Vector3d& centre() const { return centre_; }
   double radius() const { return std::sqrt(radius_squared_); }
 
-  // Appends `point` in the object frame to `object` when it lies in the padded box.
-  void keepIfInside(const PointXYZIT& point, Cloud& object) const {
+  // `point` in the object frame when it lies in the padded box.
+  std::optional<Eigen::Vector3d> inside(const PointXYZIT& point) const {
     const Eigen::Vector3d sensor(point.x, point.y, point.z);
     // Written so that NaN and infinite points fail it.
     if (!((sensor - centre_).squaredNorm() <= radius_squared_)) {
-      return;
+      return std::nullopt;
     }
     const Eigen::Vector3d local = to_object_ * sensor;
     if (((local - object_centre_).array().abs() <= limit_.array()).all()) {
-      object.points.emplace_back(static_cast<float>(local.x()), static_cast<float>(local.y()),
-                                 static_cast<float>(local.z()), point.intensity, point.timestamp);
+      return local;
+    }
+    return std::nullopt;
+  }
+
+  // Appends `point` in the object frame to `object` when it lies in the padded box.
+  void keepIfInside(const PointXYZIT& point, Cloud& object) const {
+    if (const std::optional<Eigen::Vector3d> local = inside(point)) {
+      object.points.emplace_back(static_cast<float>(local->x()), static_cast<float>(local->y()),
+                                 static_cast<float>(local->z()), point.intensity, point.timestamp);
     }
   }
 
@@ -145,16 +153,19 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   const auto [first_column, end_column] =
       cellRange(centre.x() - radius, centre.x() + radius, min_x_, columns_);
   const auto [first_row, end_row] = cellRange(centre.y() - radius, centre.y() + radius, min_y_, rows_);
-  std::vector<std::uint32_t> near;
+  std::vector<std::uint32_t> kept;
   if (first_column < end_column) {
     for (std::size_t row = first_row; row < end_row; ++row) {
       const std::size_t cells = row * columns_;
-      near.insert(near.end(), by_cell_.begin() + start_[cells + first_column],
-                  by_cell_.begin() + start_[cells + end_column]);
+      for (std::uint32_t c = start_[cells + first_column]; c < start_[cells + end_column]; ++c) {
+        if (test.inside(cloud_.points[by_cell_[c]])) {
+          kept.push_back(by_cell_[c]);
+        }
+      }
     }
   }
-  std::sort(near.begin(), near.end());  // cloud order, as the whole-cloud scan keeps them
-  for (const std::uint32_t i : near) {
+  std::sort(kept.begin(), kept.end());  // cloud order, as the whole-cloud scan keeps them
+  for (const std::uint32_t i : kept) {
     test.keepIfInside(cloud_.points[i], object);
   }
   finishCloud(object);

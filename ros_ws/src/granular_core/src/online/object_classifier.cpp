@@ -74,12 +74,17 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
   std::vector<ObjectPrediction> predictions(objects.size());
   if (impl_->supervised) {
     const SupervisedClassifier& classifier = *impl_->supervised;
+    std::vector<std::size_t> classified;
+    std::vector<std::vector<float>> features;
     for (std::size_t i = 0; i < objects.size(); ++i) {
-      if (objects[i].empty()) {
-        continue;
+      if (!objects[i].empty()) {
+        classified.push_back(i);
+        features.push_back(classifier.features(objects[i]));
       }
-      const SupervisedPrediction answer = classifier.predictWithScore(classifier.features(objects[i]));
-      predictions[i] = {true, answer.label, answer.score};
+    }
+    const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
+    for (std::size_t k = 0; k < classified.size(); ++k) {
+      predictions[classified[k]] = {true, answers[k].label, answers[k].score};
     }
     return predictions;
   }

@@ -206,25 +206,43 @@ std::string SupervisedClassifier::predict(const std::vector<float>& features) co
 
 SupervisedPrediction SupervisedClassifier::predictWithScore(
     const std::vector<float>& features) const {
-  const cv::Mat row = impl_->prepare(features);
-  float response = 0.0f;
-  double score = 1.0;
+  return predictWithScores({features}).front();
+}
+
+std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
+    const std::vector<std::vector<float>>& features) const {
+  std::vector<SupervisedPrediction> predictions;
+  predictions.reserve(features.size());
+  if (features.empty()) {
+    return predictions;
+  }
+  cv::Mat rows(static_cast<int>(features.size()), static_cast<int>(impl_->size()), CV_32F);
+  for (std::size_t r = 0; r < features.size(); ++r) {
+    impl_->prepare(features[r]).copyTo(rows.row(static_cast<int>(r)));
+  }
+  cv::Mat responses, neighbours;
   if (impl_->method == SupervisedMethod::kKnn) {
     // findNearest keeps no state, unlike predict's default path; safe from several threads.
     const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
-    cv::Mat results, neighbours;
-    response = knn->findNearest(row, impl_->config.knn.k, results, neighbours);
-    if (neighbours.cols > 0) {
-      score = static_cast<double>(cv::countNonZero(neighbours == response)) / neighbours.cols;
-    }
+    knn->findNearest(rows, impl_->config.knn.k, responses, neighbours);
   } else {
-    response = impl_->model->predict(row);
+    impl_->model->predict(rows, responses);
   }
-  const long index = std::lround(response);
-  if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {
-    throw std::runtime_error("the classifier answered an unknown class " + std::to_string(index));
+  for (int r = 0; r < rows.rows; ++r) {
+    const float response = responses.at<float>(r);
+    double score = 1.0;
+    if (neighbours.cols > 0) {  // kNN: the share of the neighbours that voted for the answer
+      score = static_cast<double>(cv::countNonZero(neighbours.row(r) == response)) /
+              neighbours.cols;
+    }
+    const long index = std::lround(response);
+    if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {
+      throw std::runtime_error("the classifier answered an unknown class " +
+                               std::to_string(index));
+    }
+    predictions.push_back({impl_->labels[static_cast<std::size_t>(index)], score});
   }
-  return {impl_->labels[static_cast<std::size_t>(index)], score};
+  return predictions;
 }
 
 SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,

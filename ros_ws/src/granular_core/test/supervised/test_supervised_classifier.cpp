@@ -61,17 +61,27 @@ TEST_F(TwoClassesTest, EveryMethodClassifiesHeldOutObjectsAndSurvivesSaveAndLoad
         SupervisedClassifier::train(method, config, features, train_labels_, &summary);
     EXPECT_EQ(classifier.labels(), (std::vector<std::string>{"Car", "Van"}));
     EXPECT_EQ(summary.objects, train_.size());
-    std::cerr << "DEBUG " << supervisedMethodName(method) << " nu " << summary.nu << " gamma " << summary.gamma << " cv " << summary.cross_validation << "\n";
     const fs::path file = folder / (std::string(supervisedMethodName(method)) + ".yml");
     classifier.save(file);
     const SupervisedClassifier loaded = SupervisedClassifier::load(file);
     EXPECT_EQ(loaded.method(), method);
+    std::vector<std::vector<float>> all;
     for (std::size_t i = 0; i < test_.size(); ++i) {
       const std::vector<float> f = classifier.features(test_[i]);
       EXPECT_EQ(classifier.predict(f), test_labels_[i]) << supervisedMethodName(method) << i;
       EXPECT_EQ(loaded.predict(loaded.features(test_[i])), classifier.predict(f))
           << supervisedMethodName(method) << " after loading, object " << i;
+      all.push_back(f);
     }
+    // All the held-out objects (both classes) in one call answer as each alone, scores too.
+    const std::vector<SupervisedPrediction> together = classifier.predictWithScores(all);
+    ASSERT_EQ(together.size(), all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      const SupervisedPrediction alone = classifier.predictWithScore(all[i]);
+      EXPECT_EQ(together[i].label, alone.label) << supervisedMethodName(method) << i;
+      EXPECT_EQ(together[i].score, alone.score) << supervisedMethodName(method) << i;
+    }
+    EXPECT_TRUE(classifier.predictWithScores({}).empty());
   }
   fs::remove_all(folder);
 }

@@ -147,6 +147,11 @@ class SupervisedClassifier {
   std::string predict(const std::vector<float>& features) const;
   /// The label with its score. Thread-safe.
   SupervisedPrediction predictWithScore(const std::vector<float>& features) const;
+  /// predictWithScore of each feature vector, the same answers in one call: kNN searches all
+  /// of them in one pass over its training set (a frame's 200 objects: one pass, not 200).
+  /// Thread-safe.
+  std::vector<SupervisedPrediction> predictWithScores(
+      const std::vector<std::vector<float>>& features) const;
 
  private:
   SupervisedClassifier();

@@ -7,6 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
+
+#include <pcl/common/point_tests.h>
 
 namespace granular {
 
@@ -41,13 +44,6 @@ class BoxTest {
     return std::nullopt;
   }
 
-  // Appends `point` in the object frame to `object` when it lies in the padded box.
-  void keepIfInside(const PointXYZIT& point, Cloud& object) const {
-    if (const std::optional<Eigen::Vector3d> local = inside(point)) {
-      object.points.emplace_back(static_cast<float>(local->x()), static_cast<float>(local->y()),
-                                 static_cast<float>(local->z()), point.intensity, point.timestamp);
-    }
-  }
 
  private:
   Eigen::Isometry3d to_object_;
@@ -57,14 +53,16 @@ class BoxTest {
   double radius_squared_;
 };
 
+// Appends `point` at its object-frame position `local`, intensity and timestamp kept.
+void append(const PointXYZIT& point, const Eigen::Vector3d& local, Cloud& object) {
+  object.points.emplace_back(static_cast<float>(local.x()), static_cast<float>(local.y()),
+                             static_cast<float>(local.z()), point.intensity, point.timestamp);
+}
+
 void finishCloud(Cloud& object) {
   object.width = static_cast<std::uint32_t>(object.points.size());
   object.height = 1;
   object.is_dense = true;
-}
-
-bool finiteXyz(const PointXYZIT& point) {
-  return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z);
 }
 
 // The grid's cells at most, whatever the points' spread (4 million: 16 MB of cell starts).
@@ -77,7 +75,9 @@ Cloud cropToObjectFrame(const Cloud& cloud, const OrientedBox& box,
   const BoxTest test(box, padding);
   Cloud object;
   for (const PointXYZIT& point : cloud.points) {
-    test.keepIfInside(point, object);
+    if (const std::optional<Eigen::Vector3d> local = test.inside(point)) {
+      append(point, *local, object);
+    }
   }
   finishCloud(object);
   return object;
@@ -91,7 +91,7 @@ FrameCropper::FrameCropper(const Cloud& cloud, double cell_size) : cloud_(cloud)
   min_x_ = std::numeric_limits<double>::infinity();
   min_y_ = min_x_;
   for (const PointXYZIT& point : cloud.points) {
-    if (finiteXyz(point)) {
+    if (pcl::isFinite(point)) {
       min_x_ = std::min(min_x_, double(point.x));
       max_x = std::max(max_x, double(point.x));
       min_y_ = std::min(min_y_, double(point.y));
@@ -111,7 +111,7 @@ FrameCropper::FrameCropper(const Cloud& cloud, double cell_size) : cloud_(cloud)
   start_.assign(columns_ * rows_ + 1, 0);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointXYZIT& point = cloud.points[i];
-    if (!finiteXyz(point)) {
+    if (!pcl::isFinite(point)) {
       cell_of[i] = static_cast<std::uint32_t>(columns_ * rows_);  // in no cell
       continue;
     }
@@ -153,20 +153,22 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   const auto [first_column, end_column] =
       cellRange(centre.x() - radius, centre.x() + radius, min_x_, columns_);
   const auto [first_row, end_row] = cellRange(centre.y() - radius, centre.y() + radius, min_y_, rows_);
-  std::vector<std::uint32_t> kept;
+  std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> kept;  // point index, object frame
   if (first_column < end_column) {
     for (std::size_t row = first_row; row < end_row; ++row) {
       const std::size_t cells = row * columns_;
       for (std::uint32_t c = start_[cells + first_column]; c < start_[cells + end_column]; ++c) {
-        if (test.inside(cloud_.points[by_cell_[c]])) {
-          kept.push_back(by_cell_[c]);
+        if (const std::optional<Eigen::Vector3d> local = test.inside(cloud_.points[by_cell_[c]])) {
+          kept.emplace_back(by_cell_[c], *local);
         }
       }
     }
   }
-  std::sort(kept.begin(), kept.end());  // cloud order, as the whole-cloud scan keeps them
-  for (const std::uint32_t i : kept) {
-    test.keepIfInside(cloud_.points[i], object);
+  // Cloud order, as the whole-cloud scan keeps them.
+  std::sort(kept.begin(), kept.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [index, local] : kept) {
+    append(cloud_.points[index], local, object);
   }
   finishCloud(object);
   return object;
@@ -177,7 +179,7 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
   FrameExtraction result;
   result.non_finite_points = static_cast<std::size_t>(
       std::count_if(cloud.points.begin(), cloud.points.end(), [](const PointXYZIT& point) {
-        return !finiteXyz(point);
+        return !pcl::isFinite(point);
       }));
 
   // Bucketing the points costs about one pass over them: worth it from two boxes on.

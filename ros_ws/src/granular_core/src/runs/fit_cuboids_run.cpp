@@ -101,7 +101,11 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     ObjectSegmentation segmentation;
     std::optional<SegmentViews> segment_views;
     std::optional<FreeSpace> free_space;
-    const FrameCropper cropper(cloud);
+    // Given boxes, or the Background decision on segments, crop the frame box by box.
+    std::optional<FrameCropper> cropper;
+    if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr) {
+      cropper.emplace(cloud);
+    }
     if (options.boxes == CuboidInputs::kSegments) {
       segmentation = segmenter.segment(cloud);
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
@@ -109,7 +113,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         if (options.classifier != nullptr) {
           // As evaluate_segmentation decides: the segment's box, in its object frame.
           const Cloud object =
-              cropper.crop(segmentation.segments[s].box, Eigen::Vector3d::Zero());
+              cropper->crop(segmentation.segments[s].box, Eigen::Vector3d::Zero());
           if (options.classifier->predict(options.classifier->features(object)) ==
               options.segmentation.background.label) {
             ++summary.called_background;
@@ -139,7 +143,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
         const Eigen::Isometry3d to_sensor = box->sensorToObject().inverse();
         std::vector<Eigen::Vector3d> grown;
-        for (const PointXYZIT& point : cropper.crop(*box, margin)) {
+        for (const PointXYZIT& point : cropper->crop(*box, margin)) {
           grown.push_back(to_sensor * Eigen::Vector3d(point.x, point.y, point.z));
         }
         Input input;

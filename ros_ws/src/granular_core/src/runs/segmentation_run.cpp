@@ -162,7 +162,11 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
             .count());
     evaluation.points += cloud.size();
 
-    const FrameCropper cropper(cloud);
+    // The Background decision and the true boxes' point counts crop the frame box by box.
+    std::optional<FrameCropper> cropper;
+    if (options.classifier || !detections.empty()) {
+      cropper.emplace(cloud);
+    }
     std::vector<std::string> labels(segments.size(), "unknown");
     std::vector<OrientedBox> boxes, kept, truth, visible;
     for (std::size_t s = 0; s < segments.size(); ++s) {
@@ -170,7 +174,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       const bool in_view = counted(box.centre(), options);
       if (options.classifier && (in_view || saved)) {
         // As fit_cuboids decides: on the segment's own box.
-        const Cloud object = cropper.crop(segments[s].box, Eigen::Vector3d::Zero());
+        const Cloud object = cropper->crop(segments[s].box, Eigen::Vector3d::Zero());
         labels[s] = options.classifier->predict(options.classifier->features(object));
       }
       if (!in_view) {
@@ -194,7 +198,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
         continue;
       }
       truth.push_back(box);
-      if (cropper.crop(box, Eigen::Vector3d::Zero()).size() >= options.min_points) {
+      if (cropper->crop(box, Eigen::Vector3d::Zero()).size() >= options.min_points) {
         visible.push_back(box);
       }
     }

@@ -1,9 +1,12 @@
-// classify_supervised: classifies every object of an objects folder with a model written by
-// train_classifier and writes one JSON record per object.
+// classify_supervised: classifies every object of an objects folder (or of registration results,
+// for svm_fitness) with a model written by train_classifier and writes one JSON record per
+// object.
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <granular_core/runs/classify_supervised_run.h>
 
@@ -15,28 +18,36 @@ namespace {
 
 const char* const kUsage =
     "usage: classify_supervised --model MODEL.yml --objects FOLDER --out FILE.json [options]\n"
+    "       classify_supervised --model MODEL.yml --registration FILE.json[,FILE.json...]\n"
+    "                           --out FILE.json [options]\n"
     "\n"
     "Classifies each object PCD of an objects folder (<Class>-<stamp>-<index>.pcd, object\n"
     "frame) with a classifier written by train_classifier, computing the features with the\n"
-    "settings stored in the model. Writes FILE.json: per object its true label (from the name)\n"
-    "and the prediction; the wall time and the microseconds per object (features and\n"
-    "prediction, on one core). Needs no roscore.\n"
+    "settings stored in the model. An svm_fitness model classifies the objects of\n"
+    "classify_registration results instead (--registration: the same methods, presets and\n"
+    "models, in the order it was trained with). Writes FILE.json: per object its true label\n"
+    "(from the name) and the prediction; the wall time and the microseconds per object\n"
+    "(features and prediction, on one core). Needs no roscore.\n"
     "\n"
     "options:\n"
     "  --model MODEL.yml  classifier to use\n"
-    "  --objects FOLDER   objects to classify\n"
+    "  --objects FOLDER   objects to classify (knn, svm, svm_esf)\n"
+    "  --registration FILE.json[,FILE.json...]\n"
+    "                     svm_fitness: classify_registration results of the objects to classify\n"
     "  --out FILE.json    results file to write (replaced)\n"
     "  --config FILE      YAML file with the feature settings you expect (config/\n"
     "                     supervised.yaml); a model trained with other settings is refused\n"
     "  --threads N        threads (default: every core)\n"
     "  --help             print this help and exit\n"
     "\n"
-    "Exit status: 0 done, 1 failed (unreadable model or folder, output not writable), 2 bad\n"
-    "option, configuration, or a model of other feature settings than --config.\n";
+    "Exit status: 0 done, 1 failed (unreadable model, folder or results, results registered\n"
+    "otherwise than the model's, output not writable), 2 bad option, configuration, a model of\n"
+    "other feature settings than --config, or --objects and --registration mixed up.\n";
 
 struct Options {
   std::string model;
   std::string objects;
+  std::string registration;
   std::string out;
   std::optional<std::string> config_file;
   int threads = 0;
@@ -50,11 +61,16 @@ int main(int argc, char** argv) {
   granular_ros::Tool tool("classify_supervised", [] { return std::string(kUsage); });
   tool.options()
       .required("--model", options.model)
-      .required("--objects", options.objects)
+      .value("--objects", options.objects)
+      .value("--registration", options.registration)
       .required("--out", options.out)
       .value("--config", options.config_file)
       .threads("--threads", options.threads);
   const auto configure = [&] {
+    if (options.objects.empty() == options.registration.empty()) {
+      throw granular_ros::UsageError(
+          "give --objects (knn, svm, svm_esf) or --registration (svm_fitness), one of them");
+    }
     if (options.config_file) {
       expected = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
     }
@@ -73,8 +89,25 @@ int main(int argc, char** argv) {
       }
     }
     const std::string method = granular::supervisedMethodName(classifier.method());
-    const granular::SupervisedRun run = granular::classifyFolderSupervised(
-        classifier, options.objects, options.threads, tool.progress(method, "objects"));
+    const bool from_registration =
+        classifier.method() == granular::SupervisedMethod::kSvmFitness;
+    if (from_registration == options.registration.empty()) {
+      throw granular_ros::UsageError(
+          options.model + " is a " + method + " classifier: give it " +
+          (from_registration ? "--registration results files" : "--objects") + ", not " +
+          (from_registration ? "--objects" : "--registration"));
+    }
+    std::vector<std::filesystem::path> registration;
+    for (const std::string& file :
+         from_registration ? granular_ros::splitList("--registration", options.registration)
+                           : std::vector<std::string>()) {
+      registration.emplace_back(file);
+    }
+    const granular::SupervisedRun run =
+        from_registration
+            ? granular::classifyRegistrationResults(classifier, registration)
+            : granular::classifyFolderSupervised(classifier, options.objects, options.threads,
+                                                 tool.progress(method, "objects"));
     for (const std::string& warning : run.warnings) {
       std::cerr << "classify_supervised: warning: " << warning << '\n';
     }

@@ -1,9 +1,12 @@
-// train_classifier: computes the features of a training objects folder and trains a kNN or a
-// nu-SVM classifier on them; writes the model file classify_supervised and the online node load.
+// train_classifier: computes the features of a training objects folder (or reads the
+// registration results of one) and trains a kNN or a nu-SVM classifier on them; writes the model
+// file classify_supervised and the online node load.
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <granular_core/runs/classify_supervised_run.h>
 
@@ -15,31 +18,42 @@ namespace {
 
 const char* const kUsage =
     "usage: train_classifier --objects FOLDER --method METHOD --out MODEL.yml [options]\n"
+    "       train_classifier --registration FILE.json[,FILE.json...] --method svm_fitness\n"
+    "                        --out MODEL.yml [options]\n"
     "\n"
     "Trains a supervised classifier on the object PCDs of a training objects folder\n"
     "(<Class>-<stamp>-<index>.pcd, object frame; the class comes from the name) and writes it,\n"
     "with the feature settings it was trained with, to MODEL.yml. Needs no roscore.\n"
     "\n"
     "methods:\n"
-    "  knn      k nearest neighbours on [mean, std] of x, y, z (report 8.4)\n"
-    "  svm      nu-SVM, RBF kernel, on 60 point-feature-histogram values (paper 001); nu and\n"
-    "           gamma by a cross-validated grid search on these objects only\n"
-    "  svm_esf  the same nu-SVM on PCL's 640 ESF values\n"
+    "  knn          k nearest neighbours on [mean, std] of x, y, z (report 8.4)\n"
+    "  svm          nu-SVM, RBF kernel, on 60 point-feature-histogram values (paper 001); nu\n"
+    "               and gamma by a cross-validated grid search on these objects only\n"
+    "  svm_esf      the same nu-SVM on PCL's 640 ESF values\n"
+    "  svm_fitness  the same nu-SVM on each object's fitness against every class model (log)\n"
+    "               and its point count: learns from classify_registration's results on the\n"
+    "               training objects (--registration, one file per method, e.g. ICP and NDT\n"
+    "               with the tuned preset) instead of reading the objects\n"
     "\n"
     "options:\n"
-    "  --objects FOLDER  training objects\n"
-    "  --method METHOD   knn, svm or svm_esf\n"
+    "  --objects FOLDER  training objects (knn, svm, svm_esf)\n"
+    "  --registration FILE.json[,FILE.json...]\n"
+    "                    svm_fitness: classify_registration results of the training objects;\n"
+    "                    classify later with results of the same methods, presets and models,\n"
+    "                    in the same order\n"
+    "  --method METHOD   knn, svm, svm_esf or svm_fitness\n"
     "  --out MODEL.yml   model file to write (replaced)\n"
     "  --config FILE     YAML file with knn, svm and histograms (the repository's\n"
     "                    config/supervised.yaml documents them)\n"
     "  --threads N       threads for the features (default: every core)\n"
     "  --help            print this help and exit\n"
     "\n"
-    "Exit status: 0 trained, 1 failed (unreadable or empty folder, a single class, output not\n"
-    "writable), 2 bad option or configuration.\n";
+    "Exit status: 0 trained, 1 failed (unreadable or empty folder or results, a single class,\n"
+    "output not writable), 2 bad option or configuration.\n";
 
 struct Options {
   std::string objects;
+  std::string registration;
   std::string method;
   std::string out;
   std::optional<std::string> config_file;
@@ -52,9 +66,11 @@ int main(int argc, char** argv) {
   Options options;
   granular::SupervisedConfig config;
   granular::SupervisedMethod method{};
+  std::vector<std::filesystem::path> registration;
   granular_ros::Tool tool("train_classifier", [] { return std::string(kUsage); });
   tool.options()
-      .required("--objects", options.objects)
+      .value("--objects", options.objects)
+      .value("--registration", options.registration)
       .required("--method", options.method)
       .required("--out", options.out)
       .value("--config", options.config_file)
@@ -62,15 +78,33 @@ int main(int argc, char** argv) {
   const auto configure = [&] {
     const auto parsed = granular::supervisedMethodFromName(options.method);
     if (!parsed) {
-      throw std::invalid_argument("--method: expected knn, svm or svm_esf, got '" +
+      throw std::invalid_argument("--method: expected knn, svm, svm_esf or svm_fitness, got '" +
                                   options.method + "'");
     }
     method = *parsed;
+    const bool from_registration = method == granular::SupervisedMethod::kSvmFitness;
+    if (from_registration && (options.registration.empty() || !options.objects.empty())) {
+      throw granular_ros::UsageError(
+          "--method svm_fitness learns from --registration results files, not --objects");
+    }
+    if (!from_registration && (options.objects.empty() || !options.registration.empty())) {
+      throw granular_ros::UsageError("--method " + options.method +
+                                     " needs --objects (only svm_fitness takes --registration)");
+    }
+    if (from_registration) {
+      for (const std::string& file : granular_ros::splitList("--registration",
+                                                              options.registration)) {
+        registration.emplace_back(file);
+      }
+    }
     config = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
   };
   return tool.run(argc, argv, configure, [&] {
-    const granular::TrainingRun run = granular::trainOnFolder(
-        options.objects, method, config, options.threads, tool.progress("features", "objects"));
+    const granular::TrainingRun run =
+        options.registration.empty()
+            ? granular::trainOnFolder(options.objects, method, config, options.threads,
+                                      tool.progress("features", "objects"))
+            : granular::trainOnRegistration(registration, config);
     run.classifier.save(options.out);
     run.report(std::cout);
     std::cout << "model: " << options.out << '\n';

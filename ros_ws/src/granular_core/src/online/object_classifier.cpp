@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "granular_core/runs/classify_registration_run.h"
 #include "granular_core/dataset/pcd_io.h"
@@ -55,6 +56,13 @@ ObjectClassifier ObjectClassifier::registration(RegistrationMethod method,
 ObjectClassifier ObjectClassifier::supervised(const std::filesystem::path& file, int threads) {
   ObjectClassifier classifier;
   classifier.impl_->supervised.emplace(SupervisedClassifier::load(file));
+  if (classifier.impl_->supervised->method() == SupervisedMethod::kSvmFitness) {
+    // Its features need every object registered against every model by each of its methods.
+    throw std::invalid_argument(file.string() +
+                                ": svm_fitness classifies registration results offline "
+                                "(classify_supervised --registration); online, use one of its "
+                                "registration methods or knn/svm");
+  }
   classifier.impl_->threads = threads;
   return classifier;
 }

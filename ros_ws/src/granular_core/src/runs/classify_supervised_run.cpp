@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <cmath>
 #include <exception>
+#include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -67,6 +69,110 @@ void forEachObject(std::size_t count, int threads, Work work,
   }
 }
 
+void addWarnings(SupervisedRun& run, const SupervisedClassifier& classifier) {
+  const std::set<std::string> known(classifier.labels().begin(), classifier.labels().end());
+  std::map<std::string, std::size_t> unknown;
+  std::size_t small = 0;
+  const std::vector<std::string>& files = run.files;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (!run.true_labels[i].empty() && known.count(run.true_labels[i]) == 0) {
+      ++unknown[run.true_labels[i]];
+    }
+    small += run.points[i] < 3;
+  }
+  for (const auto& [label, count] : unknown) {
+    run.warnings.push_back(std::to_string(count) + " object(s) of class " + label +
+                           ", which the classifier was not trained on; they count as wrong");
+  }
+  if (small > 0) {
+    run.warnings.push_back(std::to_string(small) +
+                           " object(s) with fewer than 3 points, classified from what they have");
+  }
+}
+
+
+// One classify_registration results file: what ran, and each object's fitness per model.
+struct RegistrationResults {
+  std::string method, preset;
+  nlohmann::json parameters;
+  std::vector<std::string> models;
+  double seconds = 0.0;
+  std::vector<std::string> files;
+  std::vector<std::size_t> points;
+  std::vector<std::vector<std::optional<double>>> fitness;  // [object][model]
+};
+
+RegistrationResults readRegistrationResults(const fs::path& file) {
+  const auto fail = [&](const std::string& what) {
+    return std::runtime_error(file.string() + ": " + what);
+  };
+  std::ifstream stream(file);
+  if (!stream) {
+    throw fail("cannot read it");
+  }
+  RegistrationResults results;
+  try {
+    const nlohmann::json document = nlohmann::json::parse(stream);
+    if (!document.is_object() || !document.contains("models") ||
+        !document.contains("objects")) {
+      throw fail("not a classify_registration results file (no models or objects)");
+    }
+    results.method = document.at("method").get<std::string>();
+    results.preset = document.value("preset", std::string());
+    results.parameters = document.at("parameters");
+    results.models = document.at("models").get<std::vector<std::string>>();
+    results.seconds = document.value("seconds", 0.0);
+    for (const nlohmann::json& object : document.at("objects")) {
+      results.files.push_back(object.at("file").get<std::string>());
+      results.points.push_back(object.at("points").get<std::size_t>());
+      const nlohmann::json& per_model = object.at("per_model");
+      std::vector<std::optional<double>> fitness;
+      for (const std::string& model : results.models) {
+        const nlohmann::json& value = per_model.at(model).at("fitness");
+        fitness.push_back(value.is_number() ? std::optional<double>(value.get<double>())
+                                            : std::nullopt);
+      }
+      results.fitness.push_back(std::move(fitness));
+    }
+  } catch (const nlohmann::json::exception& error) {
+    throw fail(std::string("not a classify_registration results file (") + error.what() + ")");
+  }
+  if (results.files.empty() || results.models.empty()) {
+    throw fail("holds no objects or no models");
+  }
+  return results;
+}
+
+// Throws unless the results files were registered as those the classifier learnt from.
+void requireSameSources(const std::string& trained, const std::string& given,
+                        const std::vector<fs::path>& results) {
+  const nlohmann::json expected = nlohmann::json::parse(trained);
+  const nlohmann::json actual = nlohmann::json::parse(given);
+  const auto methods = [](const nlohmann::json& sources) {
+    std::string list;
+    for (const nlohmann::json& source : sources) {
+      list += (list.empty() ? "" : ", ") + source.at("method").get<std::string>();
+    }
+    return list;
+  };
+  if (expected.size() != actual.size()) {
+    throw std::runtime_error("the classifier learnt from " + std::to_string(expected.size()) +
+                             " registration results (" + methods(expected) + "), got " +
+                             std::to_string(actual.size()) + " (" + methods(actual) + ")");
+  }
+  for (std::size_t f = 0; f < expected.size(); ++f) {
+    for (const char* key : {"method", "parameters", "models"}) {
+      if (expected[f].at(key) != actual[f].at(key)) {
+        throw std::runtime_error(results[f].string() + ": registered with other " + key +
+                                 " than the classifier's results file " + std::to_string(f + 1) +
+                                 " (" + expected[f].at(key).dump() + " vs " +
+                                 actual[f].at(key).dump() +
+                                 "); classify with the same methods, presets and models");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 FolderFeatures computeFolderFeatures(const fs::path& folder, FeatureKind kind,
@@ -122,26 +228,98 @@ SupervisedRun classifyFolderSupervised(const SupervisedClassifier& classifier,
   run.seconds = microsecondsSince(start) / 1e6;
   run.microseconds_per_object =
       std::accumulate(microseconds.begin(), microseconds.end(), 0.0) / files.size();
-
-  const std::set<std::string> known(classifier.labels().begin(), classifier.labels().end());
-  std::map<std::string, std::size_t> unknown;
-  std::size_t small = 0;
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    if (!run.true_labels[i].empty() && known.count(run.true_labels[i]) == 0) {
-      ++unknown[run.true_labels[i]];
-    }
-    small += run.points[i] < 3;
-  }
-  for (const auto& [label, count] : unknown) {
-    run.warnings.push_back(std::to_string(count) + " object(s) of class " + label +
-                           ", which the classifier was not trained on; they count as wrong");
-  }
-  if (small > 0) {
-    run.warnings.push_back(std::to_string(small) +
-                           " object(s) with fewer than 3 points, classified from what they have");
-  }
+  addWarnings(run, classifier);
   return run;
 }
+
+RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& results) {
+  if (results.empty()) {
+    throw std::invalid_argument("no registration results files");
+  }
+  RegistrationFeatures features;
+  nlohmann::json sources = nlohmann::json::array();
+  std::vector<std::vector<std::vector<std::optional<double>>>> fitness;  // [object][file][model]
+  for (std::size_t f = 0; f < results.size(); ++f) {
+    const auto start = Clock::now();
+    const RegistrationResults file = readRegistrationResults(results[f]);
+    features.registration_seconds += file.seconds;
+    sources.push_back({{"method", file.method},
+                       {"parameters", file.parameters},
+                       {"models", file.models}});
+    for (const std::string& model : file.models) {
+      features.origin.names.push_back(file.method + "/" + file.preset + ":" + model);
+    }
+    if (f == 0) {
+      features.folder.files = file.files;
+      features.folder.points = file.points;
+      fitness.resize(file.files.size());
+      for (const std::string& name : file.files) {
+        features.folder.labels.push_back(objectClass(name));
+      }
+    } else if (file.files != features.folder.files) {
+      throw std::runtime_error(results[f].string() + ": lists other objects than " +
+                               results.front().string() +
+                               "; give the results of one objects folder");
+    }
+    for (std::size_t i = 0; i < file.files.size(); ++i) {
+      fitness[i].push_back(file.fitness[i]);
+    }
+    // Reading is shared by the objects: its time goes to each in equal parts.
+    const double share = microsecondsSince(start) / static_cast<double>(file.files.size());
+    features.folder.microseconds.resize(file.files.size(), 0.0);
+    for (double& microseconds : features.folder.microseconds) {
+      microseconds += share;
+    }
+  }
+  features.origin.names.push_back("log_points");
+  features.origin.source = sources.dump();
+  for (std::size_t i = 0; i < fitness.size(); ++i) {
+    features.folder.features.push_back(
+        registrationFitnessFeatures(fitness[i], features.folder.points[i]));
+  }
+  return features;
+}
+
+TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
+                                const SupervisedConfig& config) {
+  const RegistrationFeatures features = readRegistrationFeatures(results);
+  TrainingSummary summary;
+  SupervisedClassifier classifier =
+      SupervisedClassifier::train(SupervisedMethod::kSvmFitness, config, features.folder.features,
+                                  features.folder.labels, &summary, features.origin);
+  return {std::move(classifier), summary};
+}
+
+SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier,
+                                          const std::vector<fs::path>& results) {
+  if (featureKindOf(classifier.method()) != FeatureKind::kRegistrationFitness) {
+    throw std::invalid_argument(std::string(supervisedMethodName(classifier.method())) +
+                                " classifies object clouds, not registration results");
+  }
+  const auto start = Clock::now();
+  const RegistrationFeatures features = readRegistrationFeatures(results);
+  requireSameSources(classifier.featureOrigin().source, features.origin.source, results);
+  SupervisedRun run;
+  run.method = classifier.method();
+  run.files = features.folder.files;
+  run.true_labels = features.folder.labels;
+  run.points = features.folder.points;
+  run.registration_seconds = features.registration_seconds;
+  const auto predicting = Clock::now();
+  for (const SupervisedPrediction& prediction :
+       classifier.predictWithScores(features.folder.features)) {
+    run.predicted.push_back(prediction.label);
+  }
+  run.seconds = microsecondsSince(start) / 1e6;
+  run.microseconds_per_object =
+      (std::accumulate(features.folder.microseconds.begin(), features.folder.microseconds.end(),
+                       0.0) +
+       microsecondsSince(predicting)) /
+      static_cast<double>(run.files.size());
+  addWarnings(run, classifier);
+  return run;
+}
+
 
 void SupervisedRun::report(std::ostream& out) const {
   std::size_t correct = 0;
@@ -154,6 +332,11 @@ void SupervisedRun::report(std::ostream& out) const {
                 supervisedMethodName(method), files.size(), seconds, microseconds_per_object,
                 files.empty() ? 0.0 : static_cast<double>(correct) / files.size());
   out << line;
+  if (registration_seconds > 0.0) {
+    std::snprintf(line, sizeof(line), "  (after the %.2f s of registration its features came from)\n",
+                  registration_seconds);
+    out << line;
+  }
 }
 
 TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod method,
@@ -205,6 +388,7 @@ void writeSupervisedJson(const fs::path& file, const SupervisedRun& run,
       {"seconds", run.seconds},
       {"seconds_to_train", training.seconds},
       {"microseconds_per_object", run.microseconds_per_object},
+      {"registration_seconds", run.registration_seconds},
       {"training",
        {{"objects", training.objects},
         {"nu", training.nu},

@@ -104,6 +104,8 @@ std::size_t featureSize(FeatureKind kind, const PointHistogramConfig& config) {
       return 4 + (3 + config.cylinder_slices) * config.bins;
     case FeatureKind::kEsf:
       return 640;
+    case FeatureKind::kRegistrationFitness:
+      return 0;
   }
   return 0;
 }
@@ -261,8 +263,27 @@ std::vector<float> objectFeatures(const Cloud& object, FeatureKind kind,
       return pointHistogramFeatures(object, config);
     case FeatureKind::kEsf:
       return esfFeatures(object);
+    case FeatureKind::kRegistrationFitness:
+      throw std::invalid_argument(
+          "registration fitness features come from registering the object against the class "
+          "models (classify_registration), not from its cloud alone");
   }
   throw std::invalid_argument("unknown feature kind");
+}
+
+std::vector<float> registrationFitnessFeatures(
+    const std::vector<std::vector<std::optional<double>>>& fitness, std::size_t points) {
+  std::vector<float> features;
+  for (const std::vector<std::optional<double>>& per_model : fitness) {
+    for (const std::optional<double>& value : per_model) {
+      const double known =
+          value && std::isfinite(*value) ? std::clamp(*value, kFitnessFloor, kUnregisteredFitness)
+                                         : kUnregisteredFitness;
+      features.push_back(static_cast<float>(std::log(known)));
+    }
+  }
+  features.push_back(static_cast<float>(std::log(std::max<std::size_t>(points, 1))));
+  return features;
 }
 
 }  // namespace granular

@@ -128,6 +128,8 @@ FeatureKind featureKindOf(SupervisedMethod method) {
       return FeatureKind::kPointHistograms;
     case SupervisedMethod::kSvmEsf:
       return FeatureKind::kEsf;
+    case SupervisedMethod::kSvmFitness:
+      return FeatureKind::kRegistrationFitness;
   }
   return FeatureKind::kMeanStd;
 }
@@ -161,6 +163,7 @@ struct SupervisedClassifier::Impl {
   SupervisedConfig config;
   std::vector<std::string> labels;
   TrainingSummary training;
+  FeatureOrigin origin;
   /// Each feature is used as (value - offset) * scale: standardised (kNN's option: offset the
   /// training mean, scale 1 / deviation) or, for the SVM, mapped to [0, 1] over the training
   /// set (offset the minimum, scale 1 / range), as libsvm's guide advises: a histogram bin that
@@ -170,7 +173,11 @@ struct SupervisedClassifier::Impl {
   std::vector<float> scale;
   cv::Ptr<cv::ml::StatModel> model;
 
-  std::size_t size() const { return featureSize(featureKindOf(method), config.histograms); }
+  std::size_t size() const {
+    return featureKindOf(method) == FeatureKind::kRegistrationFitness
+               ? origin.names.size()
+               : featureSize(featureKindOf(method), config.histograms);
+  }
 
   cv::Mat prepare(const std::vector<float>& features) const {
     if (features.size() != size()) {
@@ -195,6 +202,8 @@ SupervisedMethod SupervisedClassifier::method() const { return impl_->method; }
 const SupervisedConfig& SupervisedClassifier::config() const { return impl_->config; }
 const std::vector<std::string>& SupervisedClassifier::labels() const { return impl_->labels; }
 const TrainingSummary& SupervisedClassifier::training() const { return impl_->training; }
+const FeatureOrigin& SupervisedClassifier::featureOrigin() const { return impl_->origin; }
+std::size_t SupervisedClassifier::featureCount() const { return impl_->size(); }
 
 std::vector<float> SupervisedClassifier::features(const Cloud& object) const {
   return objectFeatures(object, featureKindOf(impl_->method), impl_->config.histograms);
@@ -249,8 +258,12 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
                                                  const SupervisedConfig& config,
                                                  const std::vector<std::vector<float>>& features,
                                                  const std::vector<std::string>& labels,
-                                                 TrainingSummary* summary) {
+                                                 TrainingSummary* summary,
+                                                 const FeatureOrigin& origin) {
   validate(config);
+  const bool named = featureKindOf(method) == FeatureKind::kRegistrationFitness;
+  config::require(!named || !origin.names.empty(),
+                  "svm_fitness needs the names of its features (their registration runs)");
   config::require(!features.empty(), "no training objects");
   config::require(features.size() == labels.size(), "features and labels differ in number");
   const auto start = std::chrono::steady_clock::now();
@@ -260,6 +273,9 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
   impl.method = method;
   impl.config = config;
   impl.labels = labels;
+  if (named) {
+    impl.origin = origin;
+  }
   std::sort(impl.labels.begin(), impl.labels.end());
   impl.labels.erase(std::unique(impl.labels.begin(), impl.labels.end()), impl.labels.end());
   config::require(impl.labels.size() >= 2, "training needs objects of at least two classes, got " +
@@ -376,6 +392,13 @@ void SupervisedClassifier::save(const std::filesystem::path& file) const {
       storage << label;
     }
     storage << "]";
+    storage << "feature_names" << "[";
+    for (const std::string& name : impl.origin.names) {
+      storage << name;
+    }
+    storage << "]";
+    // write(), not <<: a string starting with '{' or '[' would open a structure.
+    storage.write("feature_source", impl.origin.source);
     storage << "offset" << impl.offset << "scale" << impl.scale;
     storage << "training" << "{" << "objects" << static_cast<int>(impl.training.objects)
             << "seconds" << impl.training.seconds << "nu" << impl.training.nu << "gamma"
@@ -396,8 +419,8 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
     return std::runtime_error(file.string() + ": " + what);
   };
   if (std::filesystem::is_directory(file)) {
-    throw fail("is a folder (class models?); the supervised methods (knn, svm, svm_esf) need a "
-               "classifier file written by train_classifier");
+    throw fail("is a folder (class models?); the supervised methods (knn, svm, svm_esf, "
+               "svm_fitness) need a classifier file written by train_classifier");
   }
   if (!std::filesystem::is_regular_file(file)) {
     throw fail("no such classifier file");
@@ -435,6 +458,17 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
     histograms.scatter = *scatter;
     histograms.seed = static_cast<std::uint32_t>(static_cast<int>(h["seed"]));
     validate(histograms);
+    // Absent from files written before svm_fitness; the other methods need none.
+    for (const cv::FileNode& name : storage["feature_names"]) {
+      impl.origin.names.push_back(static_cast<std::string>(name));
+    }
+    if (!storage["feature_source"].empty()) {
+      impl.origin.source = static_cast<std::string>(storage["feature_source"]);
+    }
+    if (featureKindOf(impl.method) == FeatureKind::kRegistrationFitness &&
+        impl.origin.names.empty()) {
+      throw fail("svm_fitness without the names of its features");
+    }
     if (static_cast<int>(storage["feature_size"]) != static_cast<int>(impl.size())) {
       throw fail("its feature size " + std::to_string(static_cast<int>(storage["feature_size"])) +
                  " does not match its feature configuration (" + std::to_string(impl.size()) +

@@ -35,7 +35,8 @@ class ObjectClassifier {
   static ObjectClassifier registration(RegistrationMethod method,
                                        const RegistrationClassifierConfig& config,
                                        const std::filesystem::path& models, int threads = 1);
-  /// A supervised classifier file (SupervisedClassifier::load).
+  /// A supervised classifier file (SupervisedClassifier::load). Throws std::invalid_argument
+  /// for svm_fitness, whose features are registration results of every model.
   static ObjectClassifier supervised(const std::filesystem::path& file, int threads = 1);
 
   ObjectClassifier(ObjectClassifier&&) noexcept;

@@ -38,6 +38,9 @@ struct SupervisedRun {
   std::vector<std::string> predicted;
   double seconds = 0.0;                 ///< wall time of features and predictions
   double microseconds_per_object = 0.0; ///< features plus prediction, mean on one core
+  /// svm_fitness: the wall time of the registrations its features came from (their results
+  /// files' own), on top of `seconds`; 0 for the others.
+  double registration_seconds = 0.0;
   std::vector<std::string> warnings;
 
   /// Objects, seconds, microseconds per object and accuracy, on `out`.
@@ -66,9 +69,35 @@ TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod 
                           const SupervisedConfig& config, int threads = 0,
                           const std::function<void(std::size_t, std::size_t)>& progress = {});
 
+/// svm_fitness's features of an objects folder, read from classify_registration's results
+/// files of it (one per registration method, each listing every object's fitness against
+/// every model): per object registrationFitnessFeatures over the files in the order given.
+struct RegistrationFeatures {
+  FolderFeatures folder;  ///< microseconds: reading and building each object's features
+  /// Names "<method>/<preset>:<Model>" and "log_points"; the source: per file its method,
+  /// parameters and models.
+  FeatureOrigin origin;
+  double registration_seconds = 0.0;  ///< the files' own registration times, summed
+};
+
+/// Reads classify_registration results files (writeClassificationJson) of one objects folder.
+/// Throws std::runtime_error naming the file when one cannot be read, is not such a file, has
+/// no objects, or lists other objects (or in another order) than the first.
+RegistrationFeatures readRegistrationFeatures(const std::vector<std::filesystem::path>& results);
+
+/// Trains svm_fitness on the registration results of a training objects folder.
+TrainingRun trainOnRegistration(const std::vector<std::filesystem::path>& results,
+                                const SupervisedConfig& config);
+
+/// Classifies the objects of registration results files with an svm_fitness `classifier`.
+/// Throws std::runtime_error when the files do not come from the methods, parameters and models
+/// (in the same order) the classifier was trained on. Warnings as classifyFolderSupervised.
+SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier,
+                                          const std::vector<std::filesystem::path>& results);
+
 /// Writes `run` as JSON, the records make_report reads:
 ///   {"method", "primary": "label", "labels": [...], "seconds", "seconds_to_train",
-///    "microseconds_per_object", "training": {...},
+///    "microseconds_per_object", "registration_seconds", "training": {...},
 ///    "objects": [{"file", "true_label", "points", "predictions": {"label": "<Class>"}}],
 ///    "accuracy", "warnings"}
 /// under a temporary name renamed to `file`. Throws std::runtime_error naming the file.

@@ -16,23 +16,29 @@
 namespace granular {
 
 /// The feature vectors of the supervised classifiers, computed from an object's cloud in its
-/// own frame (origin at the centre of the box's bottom face, x forward, y left, z up).
+/// own frame (origin at the centre of the box's bottom face, x forward, y left, z up), or, for
+/// kRegistrationFitness, from its registration against the class models.
 enum class FeatureKind {
   kMeanStd,         ///< report 8.4: [mu_x, mu_y, mu_z, sigma_x, sigma_y, sigma_z]
   kPointHistograms, ///< paper 001, III: 4 object-level values and 8 histograms of b bins
   kEsf,             ///< PCL's Ensemble of Shape Functions, 640 values
+  /// The log of the object's fitness against every class model under one or more
+  /// registration methods, and the log of its point count (registrationFitnessFeatures);
+  /// as many values as the classifier's feature names. Not computed from a cloud alone.
+  kRegistrationFitness,
 };
 
 template <>
 struct config::EnumNames<FeatureKind> {
   static constexpr const char* what = "feature kind";
-  static constexpr std::array<std::pair<FeatureKind, const char*>, 3> values{
+  static constexpr std::array<std::pair<FeatureKind, const char*>, 4> values{
       {{FeatureKind::kMeanStd, "mean_std"},
        {FeatureKind::kPointHistograms, "point_histograms"},
-       {FeatureKind::kEsf, "esf"}}};
+       {FeatureKind::kEsf, "esf"},
+       {FeatureKind::kRegistrationFitness, "registration_fitness"}}};
 };
 
-/// "mean_std", "point_histograms" or "esf".
+/// "mean_std", "point_histograms", "esf" or "registration_fitness".
 inline const char* featureKindName(FeatureKind kind) { return config::enumName(kind); }
 inline std::optional<FeatureKind> featureKindFromName(const std::string& name) {
   return config::enumFromName<FeatureKind>(name);
@@ -104,7 +110,8 @@ struct PointHistogramConfig {
 /// Throws std::invalid_argument naming the field for a value out of range.
 inline void validate(const PointHistogramConfig& config) { config::validateFields(config); }
 
-/// Values of a feature vector of `kind`.
+/// Values of a feature vector of `kind`; 0 for kRegistrationFitness, whose size is the number
+/// of models and registration methods it was built from.
 std::size_t featureSize(FeatureKind kind, const PointHistogramConfig& config);
 
 /// L1, L2, L3 of the sorted, sum-normalised eigenvalues d1 >= d2 >= d3 of a covariance matrix
@@ -113,7 +120,8 @@ std::array<double, 3> lalondeFeatures(const std::vector<Eigen::Vector3f>& points
                                       ScatterDefinition scatter);
 
 /// The feature vector of `kind` for one object cloud; never NaN: an empty cloud gives zeros,
-/// non-finite points are ignored.
+/// non-finite points are ignored. Throws std::invalid_argument for kRegistrationFitness, which
+/// a cloud alone does not give.
 std::vector<float> objectFeatures(const Cloud& object, FeatureKind kind,
                                   const PointHistogramConfig& config = {});
 
@@ -122,6 +130,21 @@ std::vector<float> meanStdFeatures(const Cloud& object);
 
 /// Paper III: the 4 + (3 + slices) x bins values described at PointHistogramConfig.
 std::vector<float> pointHistogramFeatures(const Cloud& object, const PointHistogramConfig& config);
+
+/// A pair's fitness (m^2) when registration gave none (it failed, or the object had too few
+/// points): worse than any registered object's, so the pair looks like a bad match.
+constexpr double kUnregisteredFitness = 100.0;
+/// Below this (m^2, a millimetre's RMS) fitness values are taken as equal: the log stays finite.
+constexpr double kFitnessFloor = 1e-6;
+
+/// kRegistrationFitness: for each registration method in turn, the natural log of the
+/// object's fitness against each class model (`fitness[method][model]`, m^2, clamped to
+/// [kFitnessFloor, kUnregisteredFitness]; none or non-finite is kUnregisteredFitness), then
+/// the log of its point count (at least 1). A Hatchback's fitness against the Sedan model is
+/// nearly its fitness against its own: the whole profile over the models, with how sparse the
+/// object is, tells them apart better than the lowest value alone.
+std::vector<float> registrationFitnessFeatures(
+    const std::vector<std::vector<std::optional<double>>>& fitness, std::size_t points);
 
 /// pcl::ESFEstimation's 640 values (zeros for fewer than 3 points).
 std::vector<float> esfFeatures(const Cloud& object);

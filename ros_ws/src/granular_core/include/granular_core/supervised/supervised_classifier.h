@@ -18,18 +18,22 @@ enum class SupervisedMethod {
   kKnn,     ///< report 8.4: k nearest neighbours on [mean, std] of x, y, z (cv::ml::KNearest)
   kSvm,     ///< paper 001: nu-SVM, RBF kernel, on the 60 point-feature-histogram values
   kSvmEsf,  ///< the same nu-SVM on PCL's 640 ESF values
+  /// the same nu-SVM on the object's registration fitness against every class model
+  /// (FeatureKind::kRegistrationFitness): a learned rule in place of the lowest fitness
+  kSvmFitness,
 };
 
 template <>
 struct config::EnumNames<SupervisedMethod> {
   static constexpr const char* what = "method";
-  static constexpr std::array<std::pair<SupervisedMethod, const char*>, 3> values{
+  static constexpr std::array<std::pair<SupervisedMethod, const char*>, 4> values{
       {{SupervisedMethod::kKnn, "knn"},
        {SupervisedMethod::kSvm, "svm"},
-       {SupervisedMethod::kSvmEsf, "svm_esf"}}};
+       {SupervisedMethod::kSvmEsf, "svm_esf"},
+       {SupervisedMethod::kSvmFitness, "svm_fitness"}}};
 };
 
-/// "knn", "svm" or "svm_esf".
+/// "knn", "svm", "svm_esf" or "svm_fitness".
 inline const char* supervisedMethodName(SupervisedMethod method) {
   return config::enumName(method);
 }
@@ -107,6 +111,15 @@ struct TrainingSummary {
   std::size_t grid_points = 0;     ///< SVM: (nu, gamma) pairs tried
 };
 
+/// Features a classifier does not compute from a cloud (svm_fitness's registration fitness):
+/// the name of each value in order, and where they came from (the registration runs' methods,
+/// parameters and models, as text), both kept in the classifier file so that classification
+/// can refuse features computed otherwise.
+struct FeatureOrigin {
+  std::vector<std::string> names;
+  std::string source;
+};
+
 /// A label and how clearly it won: the share of the k neighbours that voted for it (kNN), or 1
 /// (nu-SVM: OpenCV gives no calibrated probability).
 struct SupervisedPrediction {
@@ -118,12 +131,14 @@ struct SupervisedPrediction {
 /// with, the labels, the standardisation and the OpenCV model.
 class SupervisedClassifier {
  public:
-  /// Trains on feature vectors (one per object, all of featureSize) and their labels. Throws
-  /// std::invalid_argument for a bad config, mismatched sizes, no objects or a single label.
+  /// Trains on feature vectors (one per object, all of featureSize, or for svm_fitness of
+  /// `origin.names`' size) and their labels. Throws std::invalid_argument for a bad config,
+  /// mismatched sizes, no objects, a single label, or svm_fitness without feature names.
   static SupervisedClassifier train(SupervisedMethod method, const SupervisedConfig& config,
                                     const std::vector<std::vector<float>>& features,
                                     const std::vector<std::string>& labels,
-                                    TrainingSummary* summary = nullptr);
+                                    TrainingSummary* summary = nullptr,
+                                    const FeatureOrigin& origin = {});
 
   /// Reads a file written by save(). Throws std::runtime_error naming the file when it cannot
   /// be read, is not a granular classifier, or its parts do not agree.
@@ -140,8 +155,13 @@ class SupervisedClassifier {
   const SupervisedConfig& config() const;
   const std::vector<std::string>& labels() const;
   const TrainingSummary& training() const;
+  /// svm_fitness: the names and source of its features; empty for the others.
+  const FeatureOrigin& featureOrigin() const;
+  /// Values in a feature vector this classifier takes.
+  std::size_t featureCount() const;
 
-  /// The feature vector of an object, as this classifier's configuration computes it.
+  /// The feature vector of an object, as this classifier's configuration computes it. Throws
+  /// std::invalid_argument for svm_fitness, whose features come from registration.
   std::vector<float> features(const Cloud& object) const;
   /// The label of a feature vector. Thread-safe.
   std::string predict(const std::vector<float>& features) const;

@@ -1,0 +1,189 @@
+// svm_fitness from classify_registration's results files: trained, saved, loaded, and refused
+// where the results came from other registrations.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "granular_core/runs/classify_supervised_run.h"
+#include "support/temporary_folder.h"
+
+namespace granular {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::TemporaryFolderTest;
+
+// A Sedan/Hatchback-like pair of classes: a Sedan fits the Sedan model best, but a Hatchback
+// fits the Sedan model slightly better than its own (0.9 times its own fitness), as a
+// one-sided fitness lets it: the lowest fitness calls every Hatchback a Sedan. Its fitness
+// against the Hatchback model is still nearer its Sedan fitness than a Sedan's is, and that
+// profile is what svm_fitness learns. `method` scales every fitness, as methods differ.
+class FitnessProfileTest : public TemporaryFolderTest {
+ protected:
+  struct Object {
+    std::string file;
+    std::size_t points;
+    double own;    // fitness against its own class's model, m^2
+  };
+
+  void SetUp() override {
+    TemporaryFolderTest::SetUp();
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> own(0.004, 0.04);
+    std::uniform_int_distribution<std::size_t> points(50, 2000);
+    for (int i = 0; i < 80; ++i) {
+      const std::string label = i % 2 == 0 ? "Sedan" : "Hatchback";
+      (i < 60 ? train_ : test_).push_back(
+          {label + "-" + std::to_string(1000 + i) + "-1.pcd", points(random), own(random)});
+    }
+  }
+
+  // The fitness of `object` against `model`.
+  static double fitness(const Object& object, const std::string& model) {
+    const bool sedan = object.file.rfind("Sedan", 0) == 0;
+    if (model == "Sedan") {
+      return sedan ? object.own : 0.9 * object.own;
+    }
+    return sedan ? 1.6 * object.own : object.own;
+  }
+
+  // classify_registration's results file of `objects` for a method, every fitness times
+  // `scale`; `unregistered` objects (by index) have no fitness against the Hatchback model.
+  fs::path results(const std::string& name, const std::string& method,
+                   const std::vector<Object>& objects, double scale,
+                   const std::vector<std::size_t>& unregistered = {}) const {
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      nlohmann::json per_model;
+      for (const std::string model : {"Hatchback", "Sedan"}) {
+        const bool missing = model == std::string("Hatchback") &&
+                             std::find(unregistered.begin(), unregistered.end(), i) !=
+                                 unregistered.end();
+        per_model[model] = {{"converged", true},
+                            {"fitness", missing ? nlohmann::json(nullptr)
+                                                : nlohmann::json(scale * fitness(objects[i], model))}};
+      }
+      list.push_back({{"file", objects[i].file},
+                      {"points", objects[i].points},
+                      {"per_model", per_model}});
+    }
+    const nlohmann::json document = {{"method", method},
+                                     {"preset", "tuned"},
+                                     {"parameters", {{"max_iterations", 30}}},
+                                     {"models", {"Hatchback", "Sedan"}},
+                                     {"seconds", 1.5},
+                                     {"objects", list}};
+    return write(name, document.dump());
+  }
+
+  std::vector<Object> train_, test_;
+};
+
+TEST_F(FitnessProfileTest, LearnsWhatTheLowestFitnessGetsWrong) {
+  // The lowest fitness is right for the Sedans only.
+  std::size_t lowest_right = 0;
+  for (const Object& object : test_) {
+    const bool sedan = object.file.rfind("Sedan", 0) == 0;
+    const bool says_sedan = fitness(object, "Sedan") < fitness(object, "Hatchback");
+    lowest_right += says_sedan == sedan;
+  }
+  EXPECT_EQ(lowest_right, test_.size() / 2);
+
+  SupervisedConfig config;
+  config.svm.refinements = 1;
+  const TrainingRun training =
+      trainOnRegistration({results("train_icp.json", "icp", train_, 1.0),
+                           results("train_ndt.json", "ndt", train_, 3.0)},
+                          config);
+  EXPECT_EQ(training.summary.objects, train_.size());
+  EXPECT_EQ(training.classifier.featureOrigin().names,
+            (std::vector<std::string>{"icp/tuned:Hatchback", "icp/tuned:Sedan",
+                                      "ndt/tuned:Hatchback", "ndt/tuned:Sedan", "log_points"}));
+  const fs::path model = root_ / "svm_fitness.yml";
+  training.classifier.save(model);
+  const SupervisedClassifier loaded = SupervisedClassifier::load(model);
+  EXPECT_EQ(loaded.featureOrigin().names, training.classifier.featureOrigin().names);
+  EXPECT_EQ(loaded.featureOrigin().source, training.classifier.featureOrigin().source);
+
+  const SupervisedRun run = classifyRegistrationResults(
+      loaded, {results("test_icp.json", "icp", test_, 1.0),
+               results("test_ndt.json", "ndt", test_, 3.0)});
+  ASSERT_EQ(run.files.size(), test_.size());
+  EXPECT_DOUBLE_EQ(run.registration_seconds, 3.0);
+  for (std::size_t i = 0; i < test_.size(); ++i) {
+    EXPECT_EQ(run.files[i], test_[i].file);
+    EXPECT_EQ(run.points[i], test_[i].points);
+    EXPECT_EQ(run.predicted[i], run.true_labels[i]) << test_[i].file;
+  }
+  // A cloud alone does not give its features.
+  EXPECT_THROW(loaded.features(Cloud()), std::invalid_argument);
+}
+
+TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
+  SupervisedConfig config;
+  config.svm.refinements = 0;
+  const TrainingRun training = trainOnRegistration(
+      {results("train_icp.json", "icp", train_, 1.0), results("train_ndt.json", "ndt", train_, 3.0)},
+      config);
+  const fs::path icp = results("test_icp.json", "icp", test_, 1.0);
+  const fs::path ndt = results("test_ndt.json", "ndt", test_, 3.0);
+  const auto refusal = [&](const std::vector<fs::path>& files) -> std::string {
+    try {
+      classifyRegistrationResults(training.classifier, files);
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  };
+  // The methods in another order, or one of them missing.
+  EXPECT_NE(refusal({ndt, icp}).find(ndt.string() + ": registered with other method"),
+            std::string::npos)
+      << refusal({ndt, icp});
+  EXPECT_NE(refusal({icp}).find("learnt from 2 registration results (icp, ndt), got 1"),
+            std::string::npos)
+      << refusal({icp});
+  // Other parameters.
+  nlohmann::json other = nlohmann::json::parse(read(ndt));
+  other["parameters"]["max_iterations"] = 35;
+  const fs::path retuned = write("retuned.json", other.dump());
+  EXPECT_NE(refusal({icp, retuned}).find("other parameters"), std::string::npos);
+  // Files of two objects folders.
+  std::vector<Object> fewer(test_.begin(), test_.end() - 1);
+  const fs::path short_ndt = results("short_ndt.json", "ndt", fewer, 3.0);
+  EXPECT_NE(refusal({icp, short_ndt}).find("lists other objects"), std::string::npos);
+  // Not a results file at all.
+  const fs::path broken = write("broken.json", "{\"models\": [\"Sedan\"]");
+  EXPECT_NE(refusal({icp, broken}).find(broken.string() + ": not a classify_registration"),
+            std::string::npos)
+      << refusal({icp, broken});
+}
+
+TEST_F(FitnessProfileTest, FeaturesAreLogFitnessAndLogPoints) {
+  const std::vector<Object> objects = {{"Sedan-1-1.pcd", 100, 0.01}, {"Sedan-2-1.pcd", 0, 0.02}};
+  const RegistrationFeatures features =
+      readRegistrationFeatures({results("icp.json", "icp", objects, 1.0, {1})});
+  ASSERT_EQ(features.folder.features.size(), 2u);
+  EXPECT_EQ(features.folder.labels, (std::vector<std::string>{"Sedan", "Sedan"}));
+  const std::vector<float>& first = features.folder.features[0];
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_FLOAT_EQ(first[0], std::log(0.016f));   // Hatchback model
+  EXPECT_FLOAT_EQ(first[1], std::log(0.01f));    // Sedan model
+  EXPECT_FLOAT_EQ(first[2], std::log(100.0f));   // points
+  // No fitness (registration failed) is as bad as kUnregisteredFitness; no points count as 1.
+  const std::vector<float>& second = features.folder.features[1];
+  EXPECT_FLOAT_EQ(second[0], std::log(static_cast<float>(kUnregisteredFitness)));
+  EXPECT_FLOAT_EQ(second[2], 0.0f);
+  EXPECT_EQ(registrationFitnessFeatures({{0.0, std::nullopt}}, 1),
+            (std::vector<float>{static_cast<float>(std::log(kFitnessFloor)),
+                                static_cast<float>(std::log(kUnregisteredFitness)), 0.0f}));
+}
+
+}  // namespace
+}  // namespace granular

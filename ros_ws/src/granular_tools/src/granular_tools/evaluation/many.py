@@ -62,7 +62,8 @@ def evaluate_pair(out, pair, duration, args):
         return evaluation
     command = ["rosrun", "granular_tools", "run_evaluation", "--train-bag", bags["train"],
                "--test-bag", bags["test"], "--out", evaluation, "--methods", args.methods,
-               "--supervised", args.supervised, "--presets", args.presets,
+               "--supervised", args.supervised, "--fitness-from", args.fitness_from,
+               "--presets", args.presets,
                "--n-thresh", args.n_thresh, "--overwrite"]
     command += ["--config-dir", args.config_dir] if args.config_dir else []
     run_tool(command, f"run_evaluation (pair {pair[0]}:{pair[1]})")
@@ -161,6 +162,8 @@ def main(argv=None):
                         help="registration methods (default: %(default)s)")
     parser.add_argument("--supervised", default=",".join(run.DEFAULT_SUPERVISED),
                         help="supervised methods; '' for none (default: %(default)s)")
+    parser.add_argument("--fitness-from", default=",".join(run.DEFAULT_FITNESS_FROM),
+                        help="the registrations svm_fitness learns from (default: %(default)s)")
     parser.add_argument("--presets", default="tuned",
                         help="registration presets (default: %(default)s; the report's never "
                              "converges by criterion 2)")

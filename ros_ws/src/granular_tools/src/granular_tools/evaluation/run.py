@@ -2,7 +2,8 @@
 
 OUT/train    run_pipeline on the train bag (frames, objects N10, models + pictures)
 OUT/test     run_pipeline on the test bag (frames, objects at every N_thresh)
-OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train drive's objects
+OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train drive's objects;
+             svm_fitness_training/: the registrations svm_fitness learns from
 OUT/results  <method>[_<preset>]/N<thresh>.json from the classify tools (no suffix for the
              report's preset)
 OUT/report   make_report: summary.json, confusion matrices, plots, index.md; intervals and
@@ -21,11 +22,14 @@ from .instances import with_interval
 from .metrics import ResultsError
 
 REGISTRATION_METHODS = ("icp", "icp_nl", "ndt")
-SUPERVISED_METHODS = ("knn", "svm", "svm_esf")
+SUPERVISED_METHODS = ("knn", "svm", "svm_esf", "svm_fitness")
 # ESF takes 8 ms an object (docs/supervised.md), the demo's two minutes and 80 % of a frame's
 # budget online, for the lowest accuracy: asked for by name only.
-DEFAULT_SUPERVISED = ("knn", "svm")
+DEFAULT_SUPERVISED = ("knn", "svm", "svm_fitness")
 PRESETS = ("report", "tuned")
+# The registrations svm_fitness learns from: tuned ICP and NDT (adding ICP-NL gains little for
+# its time, docs/classification.md).
+DEFAULT_FITNESS_FROM = ("icp_tuned", "ndt_tuned")
 
 
 def results_name(method, preset):
@@ -59,7 +63,45 @@ def train_and_classify(method, train_objects, test_run, classifiers, results, co
                  f"classify_supervised ({method})")
 
 
-def check_methods(methods, supervised, presets):
+def train_and_classify_fitness(fitness_from, models, train_objects, test_run, classifiers,
+                               results, config_file, registration_config):
+    """svm_fitness: the train drive's objects registered with each method it learns from, the
+    SVM trained on those results, then every test set from the test drive's own results."""
+    training = os.path.join(classifiers, "svm_fitness_training")
+    os.makedirs(training, exist_ok=True)
+    train_results = []
+    for name in fitness_from:
+        method, preset = split_results_name(name)
+        print(f"run_evaluation: svm_fitness: registering the train drive's objects ({name})",
+              flush=True)
+        train_results.append(os.path.join(training, f"{name}.json"))
+        classify(method, models, train_objects, train_results[-1], preset, registration_config)
+    model = os.path.join(classifiers, "svm_fitness.yml")
+    command = ["rosrun", "granular_ros", "train_classifier", "--method", "svm_fitness",
+               "--registration", ",".join(train_results), "--out", model]
+    command += ["--config", config_file] if config_file else []
+    print("run_evaluation: training svm_fitness", flush=True)
+    run_tool(command, "train_classifier --method svm_fitness")
+    folder = os.path.join(results, "svm_fitness")
+    os.makedirs(folder, exist_ok=True)
+    for threshold in test_run.thresholds:
+        print(f"run_evaluation: svm_fitness on N_thresh {threshold}", flush=True)
+        test_results = [os.path.join(results, name, f"N{threshold}.json") for name in fitness_from]
+        run_tool(["rosrun", "granular_ros", "classify_supervised", "--model", model,
+                  "--registration", ",".join(test_results),
+                  "--out", os.path.join(folder, f"N{threshold}.json")],
+                 "classify_supervised (svm_fitness)")
+
+
+def split_results_name(name):
+    """'icp_nl_tuned' -> ('icp_nl', 'tuned'); a bare method is the report's preset."""
+    for preset in PRESETS:
+        if preset != "report" and name.endswith(f"_{preset}"):
+            return name[:-len(preset) - 1], preset
+    return name, "report"
+
+
+def check_methods(methods, supervised, presets, fitness_from=DEFAULT_FITNESS_FROM):
     for given, known, what in ((methods, REGISTRATION_METHODS, "method"),
                                (supervised, SUPERVISED_METHODS, "supervised method"),
                                (presets, PRESETS, "preset")):
@@ -67,12 +109,21 @@ def check_methods(methods, supervised, presets):
         if unknown:
             raise StageError("arguments", f"unknown {what}(s) {', '.join(unknown)}; known: "
                                           f"{', '.join(known)}", 2)
+    if "svm_fitness" in supervised:
+        run = {results_name(m, p) for m in methods for p in presets}
+        absent = [name for name in fitness_from if name not in run]
+        if not fitness_from or absent:
+            raise StageError("arguments",
+                             f"svm_fitness learns from the registrations "
+                             f"{', '.join(fitness_from) or '(none given)'}, and "
+                             f"{', '.join(absent) or 'none'} of them would not run: add their "
+                             f"methods and presets, or change --fitness-from", 2)
 
 
 def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir, overwrite,
-             supervised=DEFAULT_SUPERVISED):
+             supervised=DEFAULT_SUPERVISED, fitness_from=DEFAULT_FITNESS_FROM):
     """Every stage of the evaluation into `out`; every argument checked before the first."""
-    check_methods(methods, supervised, presets)
+    check_methods(methods, supervised, presets, fitness_from)
     train_run = pipeline.PipelineRun(bag=train_bag, out=os.path.join(out, "train"),
                                      thresholds=(10,), models_from=10, config_dir=config_dir,
                                      overwrite=overwrite).checked()
@@ -98,8 +149,14 @@ def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir,
         classifiers = os.path.join(out, "classifiers")
         os.makedirs(classifiers, exist_ok=True)
         for method in supervised:
-            train_and_classify(method, train_objects, test_run, classifiers, results,
-                               test_run.config_file("supervised.yaml"))
+            if method == "svm_fitness":
+                train_and_classify_fitness(fitness_from, models, train_objects, test_run,
+                                           classifiers, results,
+                                           test_run.config_file("supervised.yaml"),
+                                           test_run.config_file("classification.yaml"))
+            else:
+                train_and_classify(method, train_objects, test_run, classifiers, results,
+                                   test_run.config_file("supervised.yaml"))
         try:
             return report.make_report(results, os.path.join(out, "report"),
                                       os.path.join(models, "pictures"),
@@ -131,6 +188,11 @@ def main(argv=None):
                         help="supervised methods, comma-separated, trained on the train "
                              "drive's objects at N_thresh 10; '' for none (default: "
                              "%(default)s)")
+    parser.add_argument("--fitness-from", default=",".join(DEFAULT_FITNESS_FROM),
+                        metavar="NAME,NAME,...",
+                        help="the registrations svm_fitness learns from, as the results are "
+                             "named (<method>_tuned, or <method> for the report's preset); "
+                             "each must also run (default: %(default)s)")
     parser.add_argument("--n-thresh", default="10,50,100,300,500", metavar="N,N,...")
     parser.add_argument("--presets", default=",".join(PRESETS),
                         help="registration parameter presets of config/classification.yaml, "
@@ -149,7 +211,8 @@ def main(argv=None):
                            pipeline.thresholds_from(args.n_thresh),
                            [p for p in args.presets.split(",") if p],
                            resolve(args.config_dir, args.relative_to), args.overwrite,
-                           [m for m in args.supervised.split(",") if m])
+                           [m for m in args.supervised.split(",") if m],
+                           [m for m in args.fitness_from.split(",") if m])
         for method, by_threshold in sorted(summary.items()):
             cells = ", ".join(f"{k} {accuracy_text(v)}" for k, v in
                               sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))

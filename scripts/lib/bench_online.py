@@ -75,8 +75,11 @@ def main():
           f"{'accuracy':>9} {'p95 / 0.1 s':>12}")
     for method in args.methods.split(","):
         monitor = OnlineMonitor()
+        # svm_fitness registers every object against the models it learnt from.
+        class_models = models_of(args.evaluation, "icp") if method == "svm_fitness" else ""
         subprocess.run(["roslaunch", args.launch, f"bag:={bag}", f"method:={method}",
-                        f"models:={models_of(args.evaluation, method)}", "rviz:=false",
+                        f"models:={models_of(args.evaluation, method)}",
+                        f"class_models:={class_models}", "rviz:=false",
                         f"rate:={args.rate}", f"track_vote:={args.track_vote}",
                         "exit_when_done:=true"],
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

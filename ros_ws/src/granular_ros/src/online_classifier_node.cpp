@@ -41,8 +41,9 @@ using Policy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Poin
 
 // The node's parameters: config/online.yaml's, and what the launch file sets from its arguments.
 struct OnlineClassifierParameters {
-  std::string method;  ///< icp, icp_nl, ndt, knn, svm or svm_esf
+  std::string method;  ///< icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness
   std::string models;  ///< models folder (registration) or classifier file (supervised)
+  std::string class_models;  ///< svm_fitness: the models folder it learnt from
   /// A relative `models` is taken from here: roslaunch runs nodes in $ROS_HOME, not where the
   /// user started it.
   std::string relative_to = ".";
@@ -62,8 +63,10 @@ struct OnlineClassifierParameters {
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     using namespace granular::config;
-    visit("method", self.method, optionalText("a method (icp, icp_nl, ndt, knn, svm or svm_esf)"));
+    visit("method", self.method,
+          optionalText("a method (icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness)"));
     visit("models", self.models, optionalText("a models folder or a classifier file"));
+    visit("class_models", self.class_models, optionalText("a models folder"));
     visit("relative_to", self.relative_to, text("a folder"));
     visit("preset", self.preset, text("a preset name"));
     visit("registration_config", self.registration_config, optionalText("a presets file"));
@@ -90,18 +93,29 @@ void validate(const OnlineClassifierParameters& parameters) {
 // The classifier that ~method and ~models name.
 granular::ObjectClassifier makeClassifier(const OnlineClassifierParameters& parameters) {
   const std::string& method = parameters.method;
-  const std::filesystem::path given = parameters.models;
-  const std::string models =
-      (given.is_relative() ? std::filesystem::path(parameters.relative_to) / given : given)
-          .lexically_normal()
-          .string();
+  const auto resolved = [&](const std::filesystem::path& given) {
+    return (given.is_relative() ? std::filesystem::path(parameters.relative_to) / given : given)
+        .lexically_normal()
+        .string();
+  };
+  const std::string models = resolved(parameters.models);
+  std::optional<std::filesystem::path> presets_file;
+  if (!parameters.registration_config.empty()) {
+    presets_file = parameters.registration_config;
+  }
   if (const auto registration = granular::registrationMethodFromName(method)) {
-    std::optional<std::filesystem::path> file;
-    if (!parameters.registration_config.empty()) {
-      file = parameters.registration_config;
-    }
     return granular::ObjectClassifier::registration(
-        *registration, granular_ros::resolvePreset(file, parameters.preset), models,
+        *registration, granular_ros::resolvePreset(presets_file, parameters.preset), models,
+        parameters.threads);
+  }
+  if (method == "svm_fitness") {
+    if (parameters.class_models.empty()) {
+      throw std::invalid_argument(
+          "~class_models: svm_fitness needs the models folder it learnt from");
+    }
+    return granular::ObjectClassifier::fitness(
+        models, resolved(parameters.class_models),
+        [&](const std::string& preset) { return granular_ros::resolvePreset(presets_file, preset); },
         parameters.threads);
   }
   if (const auto supervised = granular::supervisedMethodFromName(method)) {
@@ -113,8 +127,9 @@ granular::ObjectClassifier makeClassifier(const OnlineClassifierParameters& para
     }
     return classifier;
   }
-  throw std::invalid_argument("~method: expected icp, icp_nl, ndt, knn, svm or svm_esf, got '" +
-                              method + "'");
+  throw std::invalid_argument(
+      "~method: expected icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness, got '" + method +
+      "'");
 }
 
 class OnlineClassifier {

@@ -6,8 +6,11 @@
 #include <optional>
 #include <stdexcept>
 
-#include "granular_core/runs/classify_registration_run.h"
+#include <nlohmann/json.hpp>
+
+#include "granular_core/dataset/models_folder.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/registration/criteria.h"
 
 namespace granular {
 namespace {
@@ -33,6 +36,8 @@ double fitnessMargin(const std::vector<PairResult>& per_model, std::size_t best,
 struct ObjectClassifier::Impl {
   std::optional<RegistrationClassifier> registration;
   std::optional<SupervisedClassifier> supervised;
+  /// svm_fitness: one registration per results file it learnt from, in their order.
+  std::vector<RegistrationClassifier> fitness_registrations;
   int threads = 1;
   std::vector<std::string> warnings;
 };
@@ -59,9 +64,57 @@ ObjectClassifier ObjectClassifier::supervised(const std::filesystem::path& file,
   if (classifier.impl_->supervised->method() == SupervisedMethod::kSvmFitness) {
     // Its features need every object registered against every model by each of its methods.
     throw std::invalid_argument(file.string() +
-                                ": svm_fitness classifies registration results offline "
-                                "(classify_supervised --registration); online, use one of its "
-                                "registration methods or knn/svm");
+                                ": svm_fitness needs the class models it learnt from as well "
+                                "(ObjectClassifier::fitness; online.launch class_models:=)");
+  }
+  classifier.impl_->threads = threads;
+  return classifier;
+}
+
+ObjectClassifier ObjectClassifier::fitness(
+    const std::filesystem::path& file, const std::filesystem::path& models,
+    const std::function<RegistrationClassifierConfig(const std::string&)>& preset, int threads) {
+  ObjectClassifier classifier;
+  classifier.impl_->supervised.emplace(SupervisedClassifier::load(file));
+  const SupervisedClassifier& svm = *classifier.impl_->supervised;
+  if (svm.method() != SupervisedMethod::kSvmFitness) {
+    throw std::invalid_argument(file.string() + " holds a " + supervisedMethodName(svm.method()) +
+                                " classifier, not svm_fitness");
+  }
+  const std::vector<LabelledModel> clouds = readClassModels(models);
+  std::vector<std::string> labels;
+  for (const LabelledModel& model : clouds) {
+    labels.push_back(model.label);
+  }
+  const nlohmann::json sources = nlohmann::json::parse(svm.featureOrigin().source);
+  std::size_t feature = 0;  // the first of each source's features, "<method>/<preset>:<Model>"
+  for (const nlohmann::json& source : sources) {
+    const std::string name = source.at("method").get<std::string>();
+    const std::optional<RegistrationMethod> method = registrationMethodFromName(name);
+    const std::string& first = svm.featureOrigin().names.at(feature);
+    const std::size_t slash = first.find('/'), colon = first.find(':');
+    if (!method || slash == std::string::npos || colon == std::string::npos) {
+      throw std::invalid_argument(file.string() + ": unknown registration '" + first + "'");
+    }
+    const std::string preset_name = first.substr(slash + 1, colon - slash - 1);
+    const RegistrationClassifierConfig config = preset(preset_name);
+    const nlohmann::json parameters =
+        nlohmann::json::parse(registrationParameters(*method, config).dump());
+    if (parameters != source.at("parameters")) {
+      throw std::invalid_argument(file.string() + " learnt from " + name + " with " +
+                                  source.at("parameters").dump() + "; preset '" + preset_name +
+                                  "' gives " + parameters.dump());
+    }
+    if (source.at("models").get<std::vector<std::string>>() != labels) {
+      throw std::invalid_argument(file.string() + " learnt from the models " +
+                                  source.at("models").dump() + "; " + models.string() +
+                                  " holds " + nlohmann::json(labels).dump());
+    }
+    classifier.impl_->fitness_registrations.emplace_back(*method, config, clouds);
+    for (const std::string& warning : classifier.impl_->fitness_registrations.back().warnings()) {
+      classifier.impl_->warnings.push_back(warning);
+    }
+    feature += labels.size();
   }
   classifier.impl_->threads = threads;
   return classifier;
@@ -80,6 +133,42 @@ const std::vector<std::string>& ObjectClassifier::warnings() const { return impl
 
 std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud>& objects) const {
   std::vector<ObjectPrediction> predictions(objects.size());
+  RegisterOptions options;
+  options.threads = impl_->threads;
+  if (!impl_->fitness_registrations.empty()) {
+    std::vector<ModelCloud> clouds;
+    for (const Cloud& object : objects) {
+      clouds.push_back(toModelCloud(object));
+    }
+    // fitness[object][method][model], as classify_registration's results record it.
+    std::vector<std::vector<std::vector<std::optional<double>>>> fitness(objects.size());
+    for (const RegistrationClassifier& registration : impl_->fitness_registrations) {
+      const std::vector<std::vector<PairResult>> results =
+          registration.registerObjects(clouds, options);
+      for (std::size_t i = 0; i < objects.size(); ++i) {
+        std::vector<std::optional<double>>& per_model = fitness[i].emplace_back();
+        for (const PairResult& result : results[i]) {
+          per_model.push_back(result.ran() && std::isfinite(result.fitness)
+                                  ? std::optional<double>(result.fitness)
+                                  : std::nullopt);
+        }
+      }
+    }
+    std::vector<std::size_t> classified;
+    std::vector<std::vector<float>> features;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      if (!clouds[i].empty()) {
+        classified.push_back(i);
+        features.push_back(registrationFitnessFeatures(fitness[i], clouds[i].size()));
+      }
+    }
+    const std::vector<SupervisedPrediction> answers =
+        impl_->supervised->predictWithScores(features);
+    for (std::size_t k = 0; k < classified.size(); ++k) {
+      predictions[classified[k]] = {true, answers[k].label, answers[k].score};
+    }
+    return predictions;
+  }
   if (impl_->supervised) {
     const SupervisedClassifier& classifier = *impl_->supervised;
     std::vector<std::size_t> classified;
@@ -102,8 +191,6 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
   for (const Cloud& object : objects) {
     clouds.push_back(toModelCloud(object));
   }
-  RegisterOptions options;
-  options.threads = impl_->threads;
   const std::vector<std::vector<PairResult>> results = classifier.registerObjects(clouds, options);
   const std::vector<std::string> labels = classifier.labels();
   for (std::size_t i = 0; i < objects.size(); ++i) {

@@ -51,6 +51,17 @@ std::size_t minimumSourcePoints(RegistrationMethod method) {
   return method == RegistrationMethod::kIcpNl ? 4 : 3;
 }
 
+config::Json registrationParameters(RegistrationMethod method,
+                                    const RegistrationClassifierConfig& config) {
+  config::Json json = method == RegistrationMethod::kNdt   ? config::toJson(config.ndt)
+                      : method == RegistrationMethod::kIcp ? config::toJson(config.icp)
+                                                           : config::toJson(config.icp_nl);
+  json["source_min_z"] =
+      config.source_min_z ? config::Json(*config.source_min_z) : config::Json(nullptr);
+  json["min_source_points"] = minimumSourcePoints(method);
+  return json;
+}
+
 ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
                                         const std::optional<double>& min_z) {
   ModelCloud::Ptr source(new ModelCloud);

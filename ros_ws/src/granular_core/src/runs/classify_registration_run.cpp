@@ -22,18 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json parameters(RegistrationMethod method, const RegistrationClassifierConfig& config) {
-  nlohmann::json json = nlohmann::json::parse(
-      (method == RegistrationMethod::kNdt ? config::toJson(config.ndt)
-       : method == RegistrationMethod::kIcp ? config::toJson(config.icp)
-                                            : config::toJson(config.icp_nl))
-          .dump());
-  json["source_min_z"] =
-      config.source_min_z ? nlohmann::json(*config.source_min_z) : nlohmann::json(nullptr);
-  json["min_source_points"] = minimumSourcePoints(method);
-  return json;
-}
-
 nlohmann::json pairJson(const PairResult& result) {
   nlohmann::json json = {{"converged", result.converged()},
                          {"state", registrationStateName(result.state)},
@@ -220,9 +208,12 @@ void writeClassificationJson(const fs::path& file, const ClassificationRun& run)
                      {"correct", summary.correct},
                      {"accuracy", summary.accuracy()}};
   }
+  // Re-read into nlohmann::json, whose keys are sorted, as the results always wrote them.
+  const nlohmann::json parameters =
+      nlohmann::json::parse(registrationParameters(run.method, run.config).dump());
   const nlohmann::json document = {{"method", registrationMethodName(run.method)},
                                    {"preset", run.preset},
-                                   {"parameters", parameters(run.method, run.config)},
+                                   {"parameters", parameters},
                                    {"models", run.models},
                                    {"seconds", run.seconds},
                                    {"threads", run.threads},

@@ -1,15 +1,20 @@
 // ObjectClassifier: one interface for the online node.
+#include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "granular_core/online/object_classifier.h"
+#include "granular_core/runs/classify_registration_run.h"
+#include "granular_core/runs/classify_supervised_run.h"
 #include "support/registration_scene.h"
 
 namespace granular {
 namespace {
 using testing_support::ClassifyFolderTest;
+namespace fs = std::filesystem;
 
 TEST_F(ClassifyFolderTest, ObjectClassifierLabelsEveryObjectAndLeavesTinyOnesUnknown) {
   const ObjectClassifier classifier = ObjectClassifier::registration(
@@ -39,6 +44,65 @@ TEST_F(ClassifyFolderTest, ObjectClassifierLabelsEveryObjectAndLeavesTinyOnesUnk
   EXPECT_THROW(ObjectClassifier::registration(RegistrationMethod::kIcp, converging(),
                                               root_ / "no_models"),
                std::runtime_error);
+}
+
+// The online classifier registers each object itself and must answer as the offline results do.
+TEST_F(ClassifyFolderTest, OnlineSvmFitnessAnswersAsTheOfflineResults) {
+  ClassifyFolderOptions options;
+  options.preset = "converging";
+  std::vector<fs::path> results;
+  for (const RegistrationMethod method : {RegistrationMethod::kIcp, RegistrationMethod::kNdt}) {
+    results.push_back(root_ / (std::string(registrationMethodName(method)) + ".json"));
+    writeClassificationJson(
+        results.back(),
+        classifyFolder(root_ / "models", root_ / "objects", method, converging(), options));
+  }
+  SupervisedConfig config;
+  config.svm.refinements = 0;
+  const fs::path model = root_ / "svm_fitness.yml";
+  trainOnRegistration(results, config).classifier.save(model);
+  const SupervisedRun offline =
+      classifyRegistrationResults(SupervisedClassifier::load(model), results);
+
+  std::vector<std::string> presets_asked;
+  const ObjectClassifier online = ObjectClassifier::fitness(
+      model, root_ / "models", [&](const std::string& preset) {
+        presets_asked.push_back(preset);
+        return converging();
+      });
+  EXPECT_EQ(presets_asked, (std::vector<std::string>{"converging", "converging"}));
+  EXPECT_EQ(online.method(), "svm_fitness");
+  // The objects in the offline run's (file name) order: "<Label>-<100 + i>-1.pcd" is objects_[i].
+  std::vector<Cloud> objects;
+  for (const std::string& file : offline.files) {
+    const std::size_t i = std::stoul(file.substr(file.find('-') + 1)) - 100;
+    Cloud cloud;
+    for (const pcl::PointXYZ& p : objects_.at(i).points) {
+      cloud.push_back(PointXYZIT(p.x, p.y, p.z, 0, 0.0));
+    }
+    objects.push_back(cloud);
+  }
+  objects.push_back(Cloud());  // nothing to register: unknown
+  const std::vector<ObjectPrediction> predictions = online.classify(objects);
+  ASSERT_EQ(predictions.size(), offline.files.size() + 1);
+  for (std::size_t k = 0; k < offline.files.size(); ++k) {
+    EXPECT_TRUE(predictions[k].classified) << offline.files[k];
+    EXPECT_EQ(predictions[k].label, offline.predicted[k]) << offline.files[k];
+    EXPECT_EQ(predictions[k].label, offline.true_labels[k]) << offline.files[k];
+  }
+  EXPECT_FALSE(predictions.back().classified);
+
+  // Other parameters than it learnt from, or the file taken for a plain supervised one.
+  RegistrationClassifierConfig other = converging();
+  other.icp.max_iterations = 31;
+  try {
+    ObjectClassifier::fitness(model, root_ / "models", [&](const std::string&) { return other; });
+    ADD_FAILURE() << "other ICP parameters were accepted";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("preset 'converging' gives"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_THROW(ObjectClassifier::supervised(model), std::invalid_argument);
 }
 
 }  // namespace

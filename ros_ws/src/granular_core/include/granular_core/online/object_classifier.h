@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,7 +20,7 @@ struct ObjectPrediction {
   std::string label = "unknown";
   /// In [0, 1], how clearly the label won. Registration: 1 - best fitness / second best fitness
   /// among the models the criterion considered (0: a tie). kNN: the share of the k neighbours
-  /// that voted for the label. nu-SVM: 1 (OpenCV gives no calibrated probability).
+  /// that voted for the label. nu-SVMs: 1 (OpenCV gives no calibrated probability).
   double score = 0.0;
 };
 
@@ -36,8 +37,19 @@ class ObjectClassifier {
                                        const RegistrationClassifierConfig& config,
                                        const std::filesystem::path& models, int threads = 1);
   /// A supervised classifier file (SupervisedClassifier::load). Throws std::invalid_argument
-  /// for svm_fitness, whose features are registration results of every model.
+  /// for svm_fitness, whose features are registration results of every model (fitness()).
   static ObjectClassifier supervised(const std::filesystem::path& file, int threads = 1);
+  /// svm_fitness: a file of train_classifier --method svm_fitness, and the models folder it
+  /// learnt from. Each object is registered against every model with each of the file's
+  /// registration methods, under the parameters `preset` gives for the preset its features
+  /// name (e.g. "tuned"), then the SVM decides from the fitness: what classify_supervised
+  /// --registration decides from classify_registration's results of the same objects. Throws
+  /// std::invalid_argument when the file is not svm_fitness, or the models or a preset's
+  /// parameters are not those it learnt from; std::runtime_error when a file cannot be read.
+  static ObjectClassifier fitness(
+      const std::filesystem::path& file, const std::filesystem::path& models,
+      const std::function<RegistrationClassifierConfig(const std::string&)>& preset,
+      int threads = 1);
 
   ObjectClassifier(ObjectClassifier&&) noexcept;
   ObjectClassifier& operator=(ObjectClassifier&&) noexcept;

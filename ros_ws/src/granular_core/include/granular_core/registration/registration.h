@@ -44,6 +44,12 @@ bool isConverged(RegistrationState state);
 /// kTooFewPoints result for every model instead of a registration.
 std::size_t minimumSourcePoints(RegistrationMethod method);
 
+/// The parameters `method` registers with under `config` (its own config section, the source's
+/// minimum height and minimumSourcePoints), as classify_registration's results record them and
+/// svm_fitness compares them.
+config::Json registrationParameters(RegistrationMethod method,
+                                    const RegistrationClassifierConfig& config);
+
 /// The object as registered: its points at or above `min_z` when set (see
 /// RegistrationClassifierConfig::source_min_z), all of them otherwise.
 ModelCloud::ConstPtr registrationSource(const ModelCloud& object,

@@ -90,7 +90,6 @@ void addWarnings(SupervisedRun& run, const SupervisedClassifier& classifier) {
   }
 }
 
-
 // One classify_registration results file: what ran, and each object's fitness per model.
 struct RegistrationResults {
   std::string method, preset;
@@ -320,7 +319,6 @@ SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier
   return run;
 }
 
-
 void SupervisedRun::report(std::ostream& out) const {
   std::size_t correct = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
@@ -333,7 +331,8 @@ void SupervisedRun::report(std::ostream& out) const {
                 files.empty() ? 0.0 : static_cast<double>(correct) / files.size());
   out << line;
   if (registration_seconds > 0.0) {
-    std::snprintf(line, sizeof(line), "  (after the %.2f s of registration its features came from)\n",
+    std::snprintf(line, sizeof(line),
+                  "  (after the %.2f s of registration its features came from)\n",
                   registration_seconds);
     out << line;
   }

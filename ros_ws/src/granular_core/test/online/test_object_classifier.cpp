@@ -2,10 +2,13 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/pcd_io.h"
 #include "granular_core/online/object_classifier.h"
 #include "granular_core/runs/classify_registration_run.h"
 #include "granular_core/runs/classify_supervised_run.h"
@@ -48,6 +51,25 @@ TEST_F(ClassifyFolderTest, ObjectClassifierLabelsEveryObjectAndLeavesTinyOnesUnk
 
 // The online classifier registers each object itself and must answer as the offline results do.
 TEST_F(ClassifyFolderTest, OnlineSvmFitnessAnswersAsTheOfflineResults) {
+  // Each view whole ("Dense", 300 points) and thinned to every tenth point ("Sparse"): both fit
+  // their model alike, so only the point count tells the classes apart, and the online
+  // features must count the points as the results files do.
+  fs::create_directories(root_ / "density");
+  std::vector<ModelCloud> views;
+  std::vector<std::string> labels;
+  for (const ModelCloud& object : objects_) {
+    ModelCloud sparse;
+    for (std::size_t p = 0; p < object.size(); p += 10) {
+      sparse.push_back(object.points[p]);
+    }
+    for (const auto& [view, label] : {std::pair(object, "Dense"), std::pair(sparse, "Sparse")}) {
+      writeModelPcd(root_ / "density" / (std::string(label) + "-" +
+                                         std::to_string(100 + views.size()) + "-1.pcd"),
+                    view);
+      views.push_back(view);
+      labels.push_back(label);
+    }
+  }
   ClassifyFolderOptions options;
   options.preset = "converging";
   std::vector<fs::path> results;
@@ -55,7 +77,7 @@ TEST_F(ClassifyFolderTest, OnlineSvmFitnessAnswersAsTheOfflineResults) {
     results.push_back(root_ / (std::string(registrationMethodName(method)) + ".json"));
     writeClassificationJson(
         results.back(),
-        classifyFolder(root_ / "models", root_ / "objects", method, converging(), options));
+        classifyFolder(root_ / "models", root_ / "density", method, converging(), options));
   }
   SupervisedConfig config;
   config.svm.refinements = 0;
@@ -72,12 +94,13 @@ TEST_F(ClassifyFolderTest, OnlineSvmFitnessAnswersAsTheOfflineResults) {
       });
   EXPECT_EQ(presets_asked, (std::vector<std::string>{"converging", "converging"}));
   EXPECT_EQ(online.method(), "svm_fitness");
-  // The objects in the offline run's (file name) order: "<Label>-<100 + i>-1.pcd" is objects_[i].
+  // The views in the offline run's (file name) order: "<Label>-<100 + i>-1.pcd" is views[i].
   std::vector<Cloud> objects;
   for (const std::string& file : offline.files) {
     const std::size_t i = std::stoul(file.substr(file.find('-') + 1)) - 100;
+    EXPECT_EQ(objectClass(file), labels.at(i));
     Cloud cloud;
-    for (const pcl::PointXYZ& p : objects_.at(i).points) {
+    for (const pcl::PointXYZ& p : views.at(i).points) {
       cloud.push_back(PointXYZIT(p.x, p.y, p.z, 0, 0.0));
     }
     objects.push_back(cloud);

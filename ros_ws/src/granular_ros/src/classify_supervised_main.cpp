@@ -97,17 +97,16 @@ int main(int argc, char** argv) {
           (from_registration ? "--registration results files" : "--objects") + ", not " +
           (from_registration ? "--objects" : "--registration"));
     }
-    std::vector<std::filesystem::path> registration;
-    for (const std::string& file :
-         from_registration ? granular_ros::splitList("--registration", options.registration)
-                           : std::vector<std::string>()) {
-      registration.emplace_back(file);
+    granular::SupervisedRun run;
+    if (from_registration) {
+      const std::vector<std::string> files =
+          granular_ros::splitList("--registration", options.registration);
+      run = granular::classifyRegistrationResults(
+          classifier, std::vector<std::filesystem::path>(files.begin(), files.end()));
+    } else {
+      run = granular::classifyFolderSupervised(classifier, options.objects, options.threads,
+                                               tool.progress(method, "objects"));
     }
-    const granular::SupervisedRun run =
-        from_registration
-            ? granular::classifyRegistrationResults(classifier, registration)
-            : granular::classifyFolderSupervised(classifier, options.objects, options.threads,
-                                                 tool.progress(method, "objects"));
     for (const std::string& warning : run.warnings) {
       std::cerr << "classify_supervised: warning: " << warning << '\n';
     }

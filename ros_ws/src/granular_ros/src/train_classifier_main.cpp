@@ -92,10 +92,9 @@ int main(int argc, char** argv) {
                                      " needs --objects (only svm_fitness takes --registration)");
     }
     if (from_registration) {
-      for (const std::string& file : granular_ros::splitList("--registration",
-                                                              options.registration)) {
-        registration.emplace_back(file);
-      }
+      const std::vector<std::string> files =
+          granular_ros::splitList("--registration", options.registration);
+      registration.assign(files.begin(), files.end());
     }
     config = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
   };

@@ -86,20 +86,15 @@ ObjectClassifier ObjectClassifier::fitness(
   for (const LabelledModel& model : clouds) {
     labels.push_back(model.label);
   }
-  const nlohmann::json sources = nlohmann::json::parse(svm.featureOrigin().source);
-  std::size_t feature = 0;  // the first of each source's features, "<method>/<preset>:<Model>"
-  for (const nlohmann::json& source : sources) {
+  for (const nlohmann::json& source : nlohmann::json::parse(svm.featureOrigin().source)) {
     const std::string name = source.at("method").get<std::string>();
     const std::optional<RegistrationMethod> method = registrationMethodFromName(name);
-    const std::string& first = svm.featureOrigin().names.at(feature);
-    const std::size_t slash = first.find('/'), colon = first.find(':');
-    if (!method || slash == std::string::npos || colon == std::string::npos) {
-      throw std::invalid_argument(file.string() + ": unknown registration '" + first + "'");
+    if (!method) {
+      throw std::invalid_argument(file.string() + ": unknown registration method '" + name + "'");
     }
-    const std::string preset_name = first.substr(slash + 1, colon - slash - 1);
+    const std::string preset_name = source.at("preset").get<std::string>();
     const RegistrationClassifierConfig config = preset(preset_name);
-    const nlohmann::json parameters =
-        nlohmann::json::parse(registrationParameters(*method, config).dump());
+    const nlohmann::json parameters = registrationParameters(*method, config);
     if (parameters != source.at("parameters")) {
       throw std::invalid_argument(file.string() + " learnt from " + name + " with " +
                                   source.at("parameters").dump() + "; preset '" + preset_name +
@@ -114,7 +109,6 @@ ObjectClassifier ObjectClassifier::fitness(
     for (const std::string& warning : classifier.impl_->fitness_registrations.back().warnings()) {
       classifier.impl_->warnings.push_back(warning);
     }
-    feature += labels.size();
   }
   classifier.impl_->threads = threads;
   return classifier;
@@ -148,9 +142,7 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
       for (std::size_t i = 0; i < objects.size(); ++i) {
         std::vector<std::optional<double>>& per_model = fitness[i].emplace_back();
         for (const PairResult& result : results[i]) {
-          per_model.push_back(result.ran() && std::isfinite(result.fitness)
-                                  ? std::optional<double>(result.fitness)
-                                  : std::nullopt);
+          per_model.push_back(result.reportedFitness());
         }
       }
     }

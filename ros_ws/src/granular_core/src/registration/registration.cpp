@@ -51,13 +51,16 @@ std::size_t minimumSourcePoints(RegistrationMethod method) {
   return method == RegistrationMethod::kIcpNl ? 4 : 3;
 }
 
-config::Json registrationParameters(RegistrationMethod method,
-                                    const RegistrationClassifierConfig& config) {
-  config::Json json = method == RegistrationMethod::kNdt   ? config::toJson(config.ndt)
-                      : method == RegistrationMethod::kIcp ? config::toJson(config.icp)
-                                                           : config::toJson(config.icp_nl);
+nlohmann::json registrationParameters(RegistrationMethod method,
+                                      const RegistrationClassifierConfig& config) {
+  // The config's own JSON keeps the fields' order; re-read, the keys are sorted.
+  nlohmann::json json = nlohmann::json::parse(
+      (method == RegistrationMethod::kNdt ? config::toJson(config.ndt)
+       : method == RegistrationMethod::kIcp ? config::toJson(config.icp)
+                                            : config::toJson(config.icp_nl))
+          .dump());
   json["source_min_z"] =
-      config.source_min_z ? config::Json(*config.source_min_z) : config::Json(nullptr);
+      config.source_min_z ? nlohmann::json(*config.source_min_z) : nlohmann::json(nullptr);
   json["min_source_points"] = minimumSourcePoints(method);
   return json;
 }

@@ -26,11 +26,8 @@ nlohmann::json pairJson(const PairResult& result) {
   nlohmann::json json = {{"converged", result.converged()},
                          {"state", registrationStateName(result.state)},
                          {"iterations", result.iterations}};
-  if (result.ran() && std::isfinite(result.fitness)) {
-    json["fitness"] = result.fitness;
-  } else {
-    json["fitness"] = nullptr;
-  }
+  const std::optional<double> fitness = result.reportedFitness();
+  json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
   if (result.ran()) {
     nlohmann::json transform = nlohmann::json::array();
     for (int row = 0; row < 4; ++row) {
@@ -208,12 +205,9 @@ void writeClassificationJson(const fs::path& file, const ClassificationRun& run)
                      {"correct", summary.correct},
                      {"accuracy", summary.accuracy()}};
   }
-  // Re-read into nlohmann::json, whose keys are sorted, as the results always wrote them.
-  const nlohmann::json parameters =
-      nlohmann::json::parse(registrationParameters(run.method, run.config).dump());
   const nlohmann::json document = {{"method", registrationMethodName(run.method)},
                                    {"preset", run.preset},
-                                   {"parameters", parameters},
+                                   {"parameters", registrationParameters(run.method, run.config)},
                                    {"models", run.models},
                                    {"seconds", run.seconds},
                                    {"threads", run.threads},

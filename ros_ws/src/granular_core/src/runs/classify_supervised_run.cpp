@@ -243,6 +243,7 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
     const RegistrationResults file = readRegistrationResults(results[f]);
     features.registration_seconds += file.seconds;
     sources.push_back({{"method", file.method},
+                       {"preset", file.preset},
                        {"parameters", file.parameters},
                        {"models", file.models}});
     for (const std::string& model : file.models) {

@@ -203,7 +203,6 @@ const SupervisedConfig& SupervisedClassifier::config() const { return impl_->con
 const std::vector<std::string>& SupervisedClassifier::labels() const { return impl_->labels; }
 const TrainingSummary& SupervisedClassifier::training() const { return impl_->training; }
 const FeatureOrigin& SupervisedClassifier::featureOrigin() const { return impl_->origin; }
-std::size_t SupervisedClassifier::featureCount() const { return impl_->size(); }
 
 std::vector<float> SupervisedClassifier::features(const Cloud& object) const {
   return objectFeatures(object, featureKindOf(impl_->method), impl_->config.histograms);

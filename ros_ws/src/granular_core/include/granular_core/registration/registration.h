@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <memory>
@@ -45,10 +46,10 @@ bool isConverged(RegistrationState state);
 std::size_t minimumSourcePoints(RegistrationMethod method);
 
 /// The parameters `method` registers with under `config` (its own config section, the source's
-/// minimum height and minimumSourcePoints), as classify_registration's results record them and
-/// svm_fitness compares them.
-config::Json registrationParameters(RegistrationMethod method,
-                                    const RegistrationClassifierConfig& config);
+/// minimum height and minimumSourcePoints), keys sorted, as classify_registration's results
+/// record them and svm_fitness compares them.
+nlohmann::json registrationParameters(RegistrationMethod method,
+                                      const RegistrationClassifierConfig& config);
 
 /// The object as registered: its points at or above `min_z` when set (see
 /// RegistrationClassifierConfig::source_min_z), all of them otherwise.
@@ -68,6 +69,11 @@ struct PairResult {
   bool converged() const { return isConverged(state); }
   /// True when the registration ran (state is not kTooFewPoints).
   bool ran() const { return state != RegistrationState::kTooFewPoints; }
+  /// The fitness when the registration ran and gave a finite one, else none: what the results
+  /// files record, and what svm_fitness's features are built from offline and online alike.
+  std::optional<double> reportedFitness() const {
+    return ran() && std::isfinite(fitness) ? std::optional<double>(fitness) : std::nullopt;
+  }
 };
 
 /// A pair whose registration threw: PCL gave up.

@@ -75,7 +75,7 @@ TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod 
 struct RegistrationFeatures {
   FolderFeatures folder;  ///< microseconds: reading and building each object's features
   /// Names "<method>/<preset>:<Model>" and "log_points"; the source: per file its method,
-  /// parameters and models.
+  /// preset, parameters and models (the preset's name is not compared, its parameters are).
   FeatureOrigin origin;
   double registration_seconds = 0.0;  ///< the files' own registration times, summed
 };

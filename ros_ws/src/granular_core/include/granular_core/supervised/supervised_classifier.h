@@ -157,8 +157,6 @@ class SupervisedClassifier {
   const TrainingSummary& training() const;
   /// svm_fitness: the names and source of its features; empty for the others.
   const FeatureOrigin& featureOrigin() const;
-  /// Values in a feature vector this classifier takes.
-  std::size_t featureCount() const;
 
   /// The feature vector of an object, as this classifier's configuration computes it. Throws
   /// std::invalid_argument for svm_fitness, whose features come from registration.

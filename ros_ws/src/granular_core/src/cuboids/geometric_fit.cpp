@@ -36,6 +36,25 @@ const SizePrior* choosePrior(const CuboidConfig& config, double height, bool cap
   return best;
 }
 
+// Whether the object is a person on foot or on two wheels (GeometricFitConfig::rider_width):
+// tall enough, and narrow above the rider's waist along both axes of `rectangle`.
+bool isRider(const cuboids::LevelledObject& object, const AxisRectangle& rectangle,
+             const GeometricFitConfig& config) {
+  if (object.top < config.rider_min_top) {
+    return false;
+  }
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (const Eigen::Vector3d& point : object.points) {
+    if (point.z() >= config.rider_above * object.top) {
+      const Eigen::Vector2d c = rectangle.coordinates(point.head<2>());
+      low = low.cwiseMin(c);
+      high = high.cwiseMax(c);
+    }
+  }
+  return (high - low).maxCoeff() <= config.rider_width;
+}
+
 }  // namespace
 
 GeometricCuboidFitter::GeometricCuboidFitter(const CuboidConfig& config) : config_(config) {
@@ -54,7 +73,8 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
                                            config_.geometric.cap_reach_deg);
   const bool capped = object.height_cap && levelled->top >= *object.height_cap - cap_reach;
   const SizePrior* prior =
-      seen.maxCoeff() >= config_.geometric.min_extent
+      seen.maxCoeff() >= config_.geometric.min_extent &&
+              !isRider(*levelled, rectangle, config_.geometric)
           ? choosePrior(config_, levelled->top, capped, seen.maxCoeff())
           : nullptr;
   const int longer = seen.x() >= seen.y() ? 0 : 1;

@@ -386,6 +386,41 @@ TEST(GeometricFitTest, SmallObjectsKeepTheSeenRectangle) {
   EXPECT_LE(fitted->box.size().y(), 0.6 + 1e-9);
 }
 
+// A cyclist seen from the side, 14 m to the left, riding along x: the bicycle 1.8 m long up to
+// its saddle and handlebar (1.0 m), the rider's back and head above it, 0.5 m long.
+std::vector<Eigen::Vector3d> cyclistFromTheSide() {
+  std::vector<Eigen::Vector3d> points;
+  for (double u = -0.9; u <= 0.9 + 1e-9; u += 0.05) {
+    for (double z = 0.3; z <= 1.0 + 1e-9; z += 0.1) {
+      points.emplace_back(10.0 + u, 14.0 - 0.3, z);
+    }
+  }
+  for (double u = -0.3; u <= 0.2 + 1e-9; u += 0.05) {
+    for (double z = 1.1; z <= 1.75 + 1e-9; z += 0.1) {
+      points.emplace_back(10.0 + u, 14.0 - 0.2, z);
+    }
+  }
+  return points;
+}
+
+TEST(GeometricFitTest, ACyclistKeepsTheSeenRectangleInsteadOfACarsPrior) {
+  const GroundPlane ground = road();
+  const std::optional<FittedCuboid> fitted =
+      GeometricCuboidFitter(carPrior()).fit(view(cyclistFromTheSide(), ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().x(), 1.8, 0.02);
+  EXPECT_LT(fitted->box.size().y(), 0.2);
+  EXPECT_NEAR(fitted->box.centre().x(), 10.0, 0.02);
+
+  // Without the rule the bicycle's 1.8 m are a car's side, grown to the car's length.
+  CuboidConfig no_riders = carPrior();
+  no_riders.geometric.rider_width = 0.0;
+  const std::optional<FittedCuboid> car =
+      GeometricCuboidFitter(no_riders).fit(view(cyclistFromTheSide(), ground));
+  ASSERT_TRUE(car);
+  EXPECT_NEAR(car->box.size().x(), 4.5, 0.02);
+}
+
 TEST(GeometricFitTest, RoadReturnsAndTooFewPointsGiveNoCuboid) {
   const GroundPlane ground = road();
   const GeometricCuboidFitter fitter(carPrior());

@@ -148,6 +148,13 @@ struct GeometricFitConfig {
   /// m: objects whose longer observed extent is below this (pedestrians, poles) keep the
   /// observed rectangle: no prior applies.
   double min_extent = 1.0;
+  /// A person on foot or on two wheels keeps the observed rectangle too: an object at least
+  /// rider_min_top m high whose points above rider_above of its top (the rider's torso, over
+  /// a bicycle's wheels and frame) span at most rider_width m along both rectangle axes. No
+  /// vehicle is that narrow above its waist: a car's rear or roof spans over a metre.
+  double rider_width = 0.8;
+  double rider_above = 0.6;
+  double rider_min_top = 1.2;
   /// Objects with fewer points get the prior's height instead of their highest point's.
   std::size_t height_points = 10;
   /// An object reaches its height cap (ObjectView::height_cap: it may be taller than seen)
@@ -163,6 +170,9 @@ struct GeometricFitConfig {
     visit("classes", self.classes, text("a class with a prior"));
     visit("width_tolerance", self.width_tolerance, nonNegative("m"));
     visit("min_extent", self.min_extent, nonNegative("m"));
+    visit("rider_width", self.rider_width, nonNegative("m"));
+    visit("rider_above", self.rider_above, fraction());
+    visit("rider_min_top", self.rider_min_top, nonNegative("m"));
     visit("height_points", self.height_points, nonNegative("points"));
     visit("cap_reach", self.cap_reach, nonNegative("m"));
     visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <numeric>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
@@ -324,18 +326,37 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
     const std::vector<int> fold = stratifiedFolds(responses, svm.folds, svm.seed);
     double best_nu = svm.nu.front(), best_log2_gamma = svm.log2_gamma_min, best = -1.0;
     const auto search = [&](const std::vector<double>& nus, const std::vector<double>& log2s) {
+      std::vector<std::pair<double, double>> grid;  // (nu, log2 gamma)
       for (const double nu : nus) {
         for (const double log2_gamma : log2s) {
-          const double accuracy =
-              crossValidate(samples, responses, fold, svm.folds, nu, std::exp2(log2_gamma));
-          ++training.grid_points;
-          // Among equals the larger nu: the softer margin generalises better from the few
-          // objects a fold has.
-          if (accuracy > best || (accuracy == best && nu > best_nu)) {
-            best = accuracy;
-            best_nu = nu;
-            best_log2_gamma = log2_gamma;
-          }
+          grid.emplace_back(nu, log2_gamma);
+        }
+      }
+      // The pairs train independently: one per core, then chosen in grid order as one loop
+      // would, so the choice does not depend on the thread count.
+      std::vector<double> accuracies(grid.size(), 0.0);
+      std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+      for (std::size_t i = 0; i < grid.size(); ++i) {
+        try {
+          accuracies[i] = crossValidate(samples, responses, fold, svm.folds, grid[i].first,
+                                        std::exp2(grid[i].second));
+        } catch (...) {
+#pragma omp critical(granular_svm_grid_error)
+          error = std::current_exception();
+        }
+      }
+      if (error) {
+        std::rethrow_exception(error);
+      }
+      for (std::size_t i = 0; i < grid.size(); ++i) {
+        ++training.grid_points;
+        // Among equals the larger nu: the softer margin generalises better from the few
+        // objects a fold has.
+        if (accuracies[i] > best || (accuracies[i] == best && grid[i].first > best_nu)) {
+          best = accuracies[i];
+          best_nu = grid[i].first;
+          best_log2_gamma = grid[i].second;
         }
       }
     };

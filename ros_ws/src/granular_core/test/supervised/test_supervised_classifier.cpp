@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "granular_core/supervised/supervised_classifier.h"
 
@@ -84,6 +85,31 @@ TEST_F(TwoClassesTest, EveryMethodClassifiesHeldOutObjectsAndSurvivesSaveAndLoad
     EXPECT_TRUE(classifier.predictWithScores({}).empty());
   }
   fs::remove_all(folder);
+}
+
+TEST_F(TwoClassesTest, TheSvmGridSearchChoosesTheSameOnOneThreadAsOnSeveral) {
+  SupervisedConfig config;
+  std::vector<std::vector<float>> features;
+  for (const Cloud& cloud : train_) {
+    features.push_back(objectFeatures(cloud, FeatureKind::kPointHistograms, config.histograms));
+  }
+  // Many grid points tie on these separable classes: the choice among them must follow the
+  // grid's order, not the order the threads finish in.
+  std::vector<TrainingSummary> summaries;
+  const int default_threads = omp_get_max_threads();
+  for (const int threads : {1, 4}) {
+    omp_set_num_threads(threads);
+    TrainingSummary summary;
+    SupervisedClassifier::train(SupervisedMethod::kSvm, config, features, train_labels_,
+                                &summary);
+    summaries.push_back(summary);
+  }
+  omp_set_num_threads(default_threads);
+  EXPECT_EQ(summaries[0].nu, summaries[1].nu);
+  EXPECT_EQ(summaries[0].gamma, summaries[1].gamma);
+  EXPECT_EQ(summaries[0].cross_validation, summaries[1].cross_validation);
+  EXPECT_EQ(summaries[0].grid_points, summaries[1].grid_points);
+  EXPECT_EQ(summaries[0].grid_points, 58u);  // 5 nu x 8 gamma, then 2 refinements of 3 x 3
 }
 
 TEST_F(TwoClassesTest, BadInputIsRefusedWithAClearMessage) {

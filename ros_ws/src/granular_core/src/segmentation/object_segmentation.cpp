@@ -7,6 +7,7 @@
 #include <numeric>
 #include <optional>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -19,6 +20,9 @@ namespace {
 // m: the min-area rectangle passes through the extreme points, which rounding would put
 // outside a box drawn on it.
 constexpr double kEdgeAllowance = 0.005;
+
+// Cells that vote in a wall's Hough search (WallPeeling), at most.
+constexpr std::size_t kHoughCells = 400;
 
 // A square grid of `side` x `side` cells of edge `size` centred on the sensor; cell
 // row * side + col covers x in [-half + col * size, ...), y likewise with row.
@@ -233,24 +237,32 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   }
   // A pair of cells joins when it lies within the larger of their two reaches. The reach
   // grows by at most one cell over a reach's distance, so scanning the rows and columns after
-  // each cell up to its reach plus one finds every pair once.
-  Components components(occupied.size());
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    const int row = static_cast<int>(occupied[k] / grid.side);
-    const int col = static_cast<int>(occupied[k] % grid.side);
-    const int window = link[k] + 1;
-    for (int r = row; r <= std::min(row + window, grid.side - 1); ++r) {
-      const int first_col = r == row ? col + 1 : std::max(col - window, 0);
-      const std::int32_t* cells = slot_.data() + static_cast<std::size_t>(r) * grid.side;
-      for (int c = first_col; c <= std::min(col + window, grid.side - 1); ++c) {
-        const std::int32_t other = cells[c];
-        if (other >= 0 &&
-            std::max(r - row, std::abs(c - col)) <= std::max(link[k], link[other])) {
-          components.join(static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(other));
+  // each cell up to its reach plus one finds every pair once. `cells` are occupied cells (k)
+  // whose slot_ holds their place in `cells`; `components` joins places.
+  const auto joinNeighbours = [&](const std::vector<std::uint32_t>& cells,
+                                  Components& components) {
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      const std::uint32_t k = cells[j];
+      const int row = static_cast<int>(occupied[k] / grid.side);
+      const int col = static_cast<int>(occupied[k] % grid.side);
+      const int window = link[k] + 1;
+      for (int r = row; r <= std::min(row + window, grid.side - 1); ++r) {
+        const int first_col = r == row ? col + 1 : std::max(col - window, 0);
+        const std::int32_t* slots = slot_.data() + static_cast<std::size_t>(r) * grid.side;
+        for (int c = first_col; c <= std::min(col + window, grid.side - 1); ++c) {
+          const std::int32_t other = slots[c];
+          if (other >= 0 && std::max(r - row, std::abs(c - col)) <=
+                                std::max(link[k], link[cells[static_cast<std::size_t>(other)]])) {
+            components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
+          }
         }
       }
     }
-  }
+  };
+  std::vector<std::uint32_t> all_cells(occupied.size());
+  std::iota(all_cells.begin(), all_cells.end(), 0u);
+  Components components(occupied.size());
+  joinNeighbours(all_cells, components);
   // A cell whose four diagonal neighbours are all occupied holds no corner of its segment's
   // footprint: the cells are half-open, so every point of the cell up and to the right lies
   // strictly above and to the right of each of its points, and likewise for the other three
@@ -277,42 +289,57 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     top_of_cell[renumbered[k]] = cell_top[k];
   }
 
-  // Each component's points, components in the order of their first cell.
+  // Each component's cells, components in the order of their first cell.
   std::vector<std::int32_t> component_of_root(occupied.size(), -1);
-  std::vector<std::vector<std::size_t>> members;
-  std::vector<std::vector<std::uint32_t>> outline_cells;  // each component's cells not inner
-  std::vector<std::size_t> cell_counts;
-  std::vector<double> column_tops;
+  std::vector<std::vector<std::uint32_t>> component_cells;
   for (std::size_t k = 0; k < occupied.size(); ++k) {
     const std::uint32_t root = components.find(static_cast<std::uint32_t>(k));
     if (component_of_root[root] < 0) {
-      component_of_root[root] = static_cast<std::int32_t>(members.size());
-      members.emplace_back();
-      outline_cells.emplace_back();
-      cell_counts.push_back(0);
-      column_tops.push_back(0.0);
+      component_of_root[root] = static_cast<std::int32_t>(component_cells.size());
+      component_cells.emplace_back();
     }
-    const auto id = static_cast<std::size_t>(component_of_root[root]);
-    ++cell_counts[id];
-    column_tops[id] = std::max(column_tops[id], double(top_of_cell[k]));
-    members[id].insert(members[id].end(), by_cell.begin() + start[k], by_cell.begin() + start[k + 1]);
-    if (!inner[k]) {
-      outline_cells[id].push_back(static_cast<std::uint32_t>(k));
-    }
+    component_cells[static_cast<std::size_t>(component_of_root[root])].push_back(
+        static_cast<std::uint32_t>(k));
   }
 
-  // Each component through the gates, cheapest first: most components are a few stray
-  // points, and the footprint's hull and the covariance are only needed for the rest.
-  for (std::size_t id = 0; id < members.size(); ++id) {
-    std::vector<std::size_t>& indices = members[id];
+  // Cells (ascending) through the gates, cheapest first: most components are a few stray
+  // points, and the footprint's hull and the covariance are only needed for the rest. A
+  // segment that passes is added to the result; otherwise the first failing gate is returned.
+  // `cell_inner`: per cell, whether it is inner among `cells` (above): no corner of the
+  // footprint is there.
+  const double max_spread = std::hypot(config.gates.max_length, config.gates.max_width);
+  const auto gate = [&](const std::vector<std::uint32_t>& cells,
+                        const std::vector<bool>& cell_inner,
+                        std::optional<double> wall_direction) -> const char* {
     const SegmentGates& gates = config.gates;
-    const auto reject = [&result](const char* gate) { ++result.rejected[gate]; };
-    if (indices.size() < gates.min_points) {
-      reject("min_points");
-      continue;
+    std::size_t points = 0;
+    int least_row = grid.side, most_row = -1, least_col = grid.side, most_col = -1;
+    for (const std::uint32_t k : cells) {
+      points += start[k + 1] - start[k];
+      const int row = static_cast<int>(occupied[k] / grid.side);
+      const int col = static_cast<int>(occupied[k] % grid.side);
+      least_row = std::min(least_row, row);
+      most_row = std::max(most_row, row);
+      least_col = std::min(least_col, col);
+      most_col = std::max(most_col, col);
     }
+    if (points < gates.min_points) {
+      return "min_points";
+    }
+    // Cells spread over more than the largest footprint's diagonal, even between their
+    // nearest sides: too long or too wide whatever the points (the spread test below, early).
+    if ((std::max(most_row - least_row, most_col - least_col) - 1) * config.cell_size >
+        max_spread) {
+      return "max_size";
+    }
+    std::vector<std::size_t> indices;
+    indices.reserve(points);
     SegmentShape shape;
-    shape.points = indices.size();
+    shape.points = points;
+    for (const std::uint32_t k : cells) {
+      indices.insert(indices.end(), by_cell.begin() + start[k], by_cell.begin() + start[k + 1]);
+      shape.column_top = std::max(shape.column_top, double(top_of_cell[k]));
+    }
     double min_z = std::numeric_limits<double>::infinity(), max_z = -min_z;
     shape.top = -std::numeric_limits<double>::infinity();
     shape.bottom = std::numeric_limits<double>::infinity();
@@ -329,49 +356,50 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       low = low.cwiseMin(xy);
       high = high.cwiseMax(xy);
     }
-    shape.column_top = column_tops[id];
     shape.range = (mean / static_cast<double>(indices.size())).norm();
     if (shape.top < gates.min_top) {
-      reject("min_top");
-      continue;
+      return "min_top";
     }
     if (shape.bottom > gates.max_bottom + gates.max_bottom_per_m * shape.range) {
-      reject("max_bottom");
-      continue;
+      return "max_bottom";
     }
     if (shape.column_top > gates.max_column_top) {
-      reject("max_column_top");
-      continue;
+      return "max_column_top";
     }
     // A segment spreading farther along x or y than the diagonal of the largest footprint
     // allowed has a footprint too long or too wide, whatever its rectangle: a building or a
     // row of trees, gated without its hull.
-    if ((high - low).maxCoeff() > std::hypot(gates.max_length, gates.max_width)) {
-      reject("max_size");
-      continue;
+    if ((high - low).maxCoeff() > max_spread) {
+      return "max_size";
     }
     std::vector<Eigen::Vector2d> xy;
-    for (const std::uint32_t k : outline_cells[id]) {
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      if (cell_inner[j]) {
+        continue;
+      }
+      const std::uint32_t k = cells[j];
       for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
         xy.emplace_back(cloud[by_cell[c]].x, cloud[by_cell[c]].y);
       }
     }
     shape.footprint = minimumAreaRectangle(xy);
     const Rectangle& footprint = shape.footprint;
-    if (const char* gate = failedSizeGate(footprint, gates)) {
-      reject(gate);
-      continue;
+    if (const char* failed = failedSizeGate(footprint, gates)) {
+      return failed;
+    }
+    if (wall_direction && footprint.width < gates.wall_width &&
+        std::abs(std::remainder(footprint.yaw - *wall_direction, M_PI)) <=
+            config.walls.parallel_deg * M_PI / 180.0) {
+      return "wall";
     }
     if (std::hypot(footprint.length, footprint.width) < gates.pole_diagonal &&
         shape.column_top > gates.pole_top) {
-      reject("pole");
-      continue;
+      return "pole";
     }
     principalThickness(cloud, indices, shape);
     if (shape.normal_tilt_deg < gates.terrain_angle_deg &&
         shape.thickness < gates.terrain_thickness) {
-      reject("terrain");
-      continue;
+      return "terrain";
     }
     std::sort(indices.begin(), indices.end());
     // From the ground under the segment to its highest point; the footprint and the top grown
@@ -384,7 +412,215 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
         Eigen::Vector3d(std::max(footprint.length + 2.0 * kEdgeAllowance, config.cell_size),
                         std::max(footprint.width + 2.0 * kEdgeAllowance, config.cell_size),
                         std::max(top - floor, config.cell_size)));
-    result.segments.push_back(Segment{box, std::move(indices), cell_counts[id]});
+    result.segments.push_back(Segment{box, std::move(indices), cells.size()});
+    return nullptr;
+  };
+
+  // The cells left when the longest straight wall (WallPeeling) is taken from `cells`, in the
+  // pieces they fall into (each ascending, in the order of its first cell), and the wall's
+  // direction (rad); nullopt when the cells hold no wall.
+  struct PeeledWall {
+    double direction = 0.0;
+    std::vector<std::vector<std::uint32_t>> pieces;
+  };
+  const WallPeeling& walls = config.walls;
+  const auto peelWall = [&](const std::vector<std::uint32_t>& cells)
+      -> std::optional<PeeledWall> {
+    std::vector<Eigen::Vector2d> centres;
+    centres.reserve(cells.size());
+    for (const std::uint32_t k : cells) {
+      centres.emplace_back(grid.centre(static_cast<int>(occupied[k] % grid.side)),
+                           grid.centre(static_cast<int>(occupied[k] / grid.side)));
+    }
+    // Hough: the direction and the band of `thickness` across it holding the most cells, over
+    // at most kHoughCells of them (evenly strided: a building's facade has thousands), at four
+    // times angle_step_deg, then at angle_step_deg around the best.
+    const std::size_t stride = (cells.size() + kHoughCells - 1) / kHoughCells;
+    std::vector<Eigen::Vector2d> voters;
+    for (std::size_t j = 0; j < centres.size(); j += stride) {
+      voters.push_back(centres[j]);
+    }
+    std::size_t best_count = 0;
+    double best_angle = 0.0, best_low = 0.0;
+    std::vector<double> across(voters.size());
+    std::vector<std::uint32_t> counts;
+    const auto vote = [&](double angle) {
+      const Eigen::Vector2d normal(std::cos(angle * M_PI / 180.0), std::sin(angle * M_PI / 180.0));
+      double least = std::numeric_limits<double>::infinity(), most = -least;
+      for (std::size_t j = 0; j < voters.size(); ++j) {
+        across[j] = normal.dot(voters[j]);
+        least = std::min(least, across[j]);
+        most = std::max(most, across[j]);
+      }
+      // Bins of half the thickness, counted two by two: a band straddling a bin's edge
+      // counts whole.
+      const double bin = walls.thickness / 2;
+      counts.assign(static_cast<std::size_t>((most - least) / bin) + 2, 0);
+      for (const double distance : across) {
+        ++counts[static_cast<std::size_t>((distance - least) / bin)];
+      }
+      for (std::size_t b = 0; b + 1 < counts.size(); ++b) {
+        if (counts[b] + counts[b + 1] > best_count) {
+          best_count = counts[b] + counts[b + 1];
+          best_angle = angle;
+          best_low = least + bin * static_cast<double>(b);
+        }
+      }
+    };
+    const double coarse = 4.0 * walls.angle_step_deg;
+    for (double angle = 0.0; angle < 180.0; angle += coarse) {
+      vote(angle);
+    }
+    const double around = best_angle;
+    for (double angle = around - coarse + walls.angle_step_deg; angle < around + coarse;
+         angle += walls.angle_step_deg) {
+      vote(angle);
+    }
+    // The band re-centred on its cells, and its longest run along the wall whose gaps the
+    // cells' links bridge. A straight wall's cells lie up to half a cell's diagonal off its
+    // line (more when it runs diagonally across the grid).
+    const Eigen::Vector2d normal(std::cos(best_angle * M_PI / 180.0),
+                                 std::sin(best_angle * M_PI / 180.0));
+    const Eigen::Vector2d along(-normal.y(), normal.x());
+    double line = 0.0;
+    std::size_t in_band = 0;
+    for (const Eigen::Vector2d& c : centres) {
+      const double distance = normal.dot(c);
+      if (distance >= best_low && distance < best_low + walls.thickness) {
+        line += distance;
+        ++in_band;
+      }
+    }
+    line /= static_cast<double>(std::max<std::size_t>(in_band, 1));
+    const double half_band = walls.thickness / 2 + config.cell_size * M_SQRT1_2;
+    std::vector<double> off_line(cells.size());
+    std::vector<std::pair<double, std::size_t>> band;  // (along, place in cells)
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      off_line[j] = std::abs(normal.dot(centres[j]) - line);
+      if (off_line[j] <= half_band) {
+        band.emplace_back(along.dot(centres[j]), j);
+      }
+    }
+    std::sort(band.begin(), band.end());
+    const auto gapAt = [&](std::size_t b) {
+      return (std::max(link[cells[band[b].second]], link[cells[band[b - 1].second]]) + 1) *
+             config.cell_size;
+    };
+    std::size_t run_first = 0, run_last = 0, first = 0;
+    for (std::size_t b = 1; b <= band.size(); ++b) {
+      if (b == band.size() || band[b].first - band[b - 1].first > gapAt(b)) {
+        if (band[b - 1].first - band[first].first >
+            band[run_last].first - band[run_first].first) {
+          run_first = first;
+          run_last = b - 1;
+        }
+        first = b;
+      }
+    }
+    if (band.empty() ||
+        band[run_last].first - band[run_first].first < config.gates.wall_length) {
+      return std::nullopt;
+    }
+    std::vector<bool> in_wall(cells.size(), false);
+    for (std::size_t b = run_first; b <= run_last; ++b) {
+      in_wall[band[b].second] = true;
+    }
+    std::vector<std::uint32_t> left;
+    std::vector<std::size_t> left_place;
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      if (!in_wall[j]) {
+        left.push_back(cells[j]);
+        left_place.push_back(j);
+      }
+    }
+    for (std::size_t j = 0; j < left.size(); ++j) {
+      slot_[occupied[left[j]]] = static_cast<std::int32_t>(j);
+    }
+    Components joined(left.size());
+    joinNeighbours(left, joined);
+    for (const std::uint32_t k : left) {
+      slot_[occupied[k]] = -1;
+    }
+    std::vector<std::int32_t> piece_of_root(left.size(), -1);
+    std::vector<std::vector<std::uint32_t>> pieces;
+    std::vector<bool> beside_wall;  // per piece: every cell within the wall's thickness of it
+    const double run_from = band[run_first].first, run_to = band[run_last].first;
+    for (std::size_t j = 0; j < left.size(); ++j) {
+      const std::uint32_t root = joined.find(static_cast<std::uint32_t>(j));
+      if (piece_of_root[root] < 0) {
+        piece_of_root[root] = static_cast<std::int32_t>(pieces.size());
+        pieces.emplace_back();
+        beside_wall.push_back(true);
+      }
+      const auto piece = static_cast<std::size_t>(piece_of_root[root]);
+      pieces[piece].push_back(left[j]);
+      const std::size_t place = left_place[j];
+      const double at = along.dot(centres[place]);
+      beside_wall[piece] = beside_wall[piece] && off_line[place] <= half_band + walls.thickness &&
+                           at >= run_from - config.cell_size && at <= run_to + config.cell_size;
+    }
+    // Slivers of the wall itself (its far face, a rough hedge's fringe) are no objects.
+    PeeledWall peeled;
+    peeled.direction = std::atan2(along.y(), along.x());
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      if (!beside_wall[p]) {
+        peeled.pieces.push_back(std::move(pieces[p]));
+      }
+    }
+    return peeled;
+  };
+
+  // Per cell of a piece left by a peeled wall, whether it is inner among the piece's cells.
+  const auto innerAmong = [&](const std::vector<std::uint32_t>& cells) {
+    for (const std::uint32_t k : cells) {
+      slot_[occupied[k]] = 0;
+    }
+    std::vector<bool> piece_inner(cells.size(), false);
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      const int row = static_cast<int>(occupied[cells[j]] / grid.side);
+      const int col = static_cast<int>(occupied[cells[j]] % grid.side);
+      if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
+        continue;
+      }
+      const auto held = [&](int r, int c) {
+        return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
+      };
+      piece_inner[j] = held(row - 1, col - 1) && held(row - 1, col + 1) &&
+                       held(row + 1, col - 1) && held(row + 1, col + 1);
+    }
+    for (const std::uint32_t k : cells) {
+      slot_[occupied[k]] = -1;
+    }
+    return piece_inner;
+  };
+
+  // Each component, and what a wall peeled from it leaves, through the gates.
+  const auto gateOrPeel = [&](const auto& self, const std::vector<std::uint32_t>& cells,
+                              const std::vector<bool>& cell_inner,
+                              std::optional<double> wall_direction, int peeled) -> void {
+    const char* failed = gate(cells, cell_inner, wall_direction);
+    if (failed == nullptr) {
+      return;
+    }
+    ++result.rejected[failed];
+    const std::string_view why(failed);
+    if (peeled < walls.max_walls && cells.size() <= walls.max_cells &&
+        (why == "max_size" || why == "wall")) {
+      if (const std::optional<PeeledWall> wall = peelWall(cells)) {
+        ++result.rejected["walls_peeled"];
+        for (const std::vector<std::uint32_t>& piece : wall->pieces) {
+          self(self, piece, innerAmong(piece), wall->direction, peeled + 1);
+        }
+      }
+    }
+  };
+  std::vector<bool> cell_inner;
+  for (const std::vector<std::uint32_t>& cells : component_cells) {
+    cell_inner.resize(cells.size());
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      cell_inner[j] = inner[cells[j]];
+    }
+    gateOrPeel(gateOrPeel, cells, cell_inner, std::nullopt, 0);
   }
   return result;
 }

@@ -56,13 +56,53 @@ TEST(ObjectSegmentationTest, WallsPolesAndKerbsAreGatedOutAndCounted) {
   addBox(cloud, {-6.0, -6.0}, 0.0, {9.0, 0.3, 1.2});          // a fence: the wall gate
   addBox(cloud, {6.0, 6.0}, 0.0, {0.25, 0.25, 4.0});          // a pole
   addBox(cloud, {-10.0, 3.0}, 0.0, {3.0, 0.2, 0.4});          // a kerb stone: too low
-  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
+  ObjectSegmentationConfig config;
+  config.walls.max_walls = 0;  // each gate once: nothing peeled off the walls
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround(), config);
   ASSERT_EQ(result.segments.size(), 1u);
   EXPECT_NEAR(result.segments[0].box.centre().x(), 10.0, 0.05);
   EXPECT_EQ(result.rejected.at("max_size"), 1u);
   EXPECT_EQ(result.rejected.at("wall"), 1u);
   EXPECT_EQ(result.rejected.at("pole"), 1u);
   EXPECT_EQ(result.rejected.at("min_top"), 1u);
+}
+
+TEST(ObjectSegmentationTest, ACarParkedAgainstAWallIsFoundWhenTheWallIsPeeledOff) {
+  for (const double yaw : {0.0, 0.5}) {
+    Cloud cloud = road();
+    const Eigen::Rotation2Dd turn(yaw);
+    // A car 10 m ahead and, 0.15 m beyond its right side, the face of a wall 20 m long (the
+    // sensor sees one face): one component, too long to be an object.
+    const std::set<std::size_t> car =
+        addBox(cloud, turn * Eigen::Vector2d(10.0, -4.0), yaw, {4.4, 1.8, 1.5});
+    addBox(cloud, turn * Eigen::Vector2d(10.0, -5.05), yaw, {20.0, 0.0, 2.0});
+    ObjectSegmentationConfig config;
+    config.walls.max_walls = 0;
+    const ObjectSegmentation merged = segmentObjects(cloud, roadGround(), config);
+    EXPECT_TRUE(merged.segments.empty()) << "yaw " << yaw;
+    EXPECT_EQ(merged.rejected.at("max_size"), 1u) << "yaw " << yaw;
+
+    const ObjectSegmentation peeled = segmentObjects(cloud, roadGround());
+    ASSERT_EQ(peeled.segments.size(), 1u) << "yaw " << yaw;
+    EXPECT_EQ(peeled.rejected.at("walls_peeled"), 1u) << "yaw " << yaw;
+    // The car's points, less its side against the wall (which a sensor would not see).
+    const Segment& segment = peeled.segments[0];
+    for (const std::size_t i : segment.indices) {
+      EXPECT_EQ(car.count(i), 1u) << "yaw " << yaw << ": point " << i << " is the wall's";
+    }
+    EXPECT_GT(segment.indices.size(), car.size() * 6 / 10) << "yaw " << yaw;
+    const Eigen::Vector2d centre = turn.inverse() * segment.box.centre().head<2>();
+    EXPECT_NEAR(centre.x(), 10.0, 0.05) << "yaw " << yaw;
+    EXPECT_NEAR(centre.y(), -4.0, 0.15) << "yaw " << yaw;
+  }
+}
+
+TEST(ObjectSegmentationTest, AWallAloneLeavesNoSegmentWhenPeeled) {
+  Cloud cloud = road();
+  addBox(cloud, {3.0, 9.0}, 0.3, {25.0, 0.2, 2.0});  // both faces: two walls 0.2 m apart
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
+  EXPECT_TRUE(result.segments.empty());
+  EXPECT_GE(result.rejected.at("walls_peeled"), 1u);
 }
 
 TEST(ObjectSegmentationTest, FarCellsJoinAcrossTheGapsBetweenReturns) {

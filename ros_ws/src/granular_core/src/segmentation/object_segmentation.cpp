@@ -517,8 +517,12 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
         first = b;
       }
     }
+    // A wall with something beside it: the run is much of the segment. Where it is not, the
+    // segment is a building or a row of trees, which holds no object to recover.
     if (band.empty() ||
-        band[run_last].first - band[run_first].first < config.gates.wall_length) {
+        band[run_last].first - band[run_first].first < config.gates.wall_length ||
+        static_cast<double>(run_last - run_first + 1) <
+            walls.min_share * static_cast<double>(cells.size())) {
       return std::nullopt;
     }
     std::vector<bool> in_wall(cells.size(), false);

@@ -17,8 +17,11 @@
 #include <granular_core/dataset/pcd_io.h>
 #include <granular_core/registration/criteria.h>
 #include <granular_core/registration/reference.h>
+#include <granular_core/registration/registration.h>
 #include <granular_core/registration/registration_classifier.h>
+#include <granular_core/runs/classify_registration_run.h>
 #include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
 
 #include "granular_ros/presets.h"
 #include "granular_ros/command_line.h"
@@ -48,6 +51,12 @@ const char* const kUsage =
     "  --preset NAME      parameter preset (default tuned)\n"
     "  --config FILE      YAML file with presets (config/classification.yaml)\n"
     "  --threads N        threads of the fast run (default: every core)\n"
+    "  --end-to-end DIR   time whole runs instead, from reading the files to the results\n"
+    "                     JSON written into DIR (created; its two JSON files replaced):\n"
+    "                     granular's as classify_registration runs (classifyFolder, then\n"
+    "                     writeClassificationJson), against the plain loop's whole run\n"
+    "                     (every object and model read with PCL's pcl::io::loadPCDFile, the\n"
+    "                     report's loop, the same JSON written)\n"
     "  --help             print this help and exit\n"
     "\n"
     "Exit status: 0 done (and ICP's and NDT's predictions agree), 1 failed or they differ,\n"
@@ -60,6 +69,7 @@ struct Options {
   std::string preset = granular_ros::kDefaultPreset;
   std::optional<std::string> config_file;
   int threads = 0;
+  std::optional<std::string> end_to_end;  ///< folder for the whole runs' JSON files
 };
 
 struct Objects {
@@ -128,6 +138,84 @@ std::size_t differentPairs(const std::vector<std::vector<granular::PairResult>>&
   return different;
 }
 
+// The plain loop's whole run, as a seed-style tool would do it: PCL's generic reader for every
+// model and object file, the report's loop, then the results JSON (the same writer as ours).
+granular::ClassificationRun plainWholeRun(const std::filesystem::path& models_folder,
+                                          const std::filesystem::path& objects_folder,
+                                          granular::RegistrationMethod method,
+                                          const granular::RegistrationClassifierConfig& config,
+                                          const std::filesystem::path& json) {
+  const auto readWithPcl = [](const std::filesystem::path& file) {
+    granular::ModelCloud cloud;
+    if (pcl::io::loadPCDFile(file.string(), cloud) < 0) {
+      throw std::runtime_error(file.string() + ": PCL cannot read it");
+    }
+    return cloud;
+  };
+  granular::ClassificationRun run;
+  run.method = method;
+  run.config = config;
+  std::vector<granular::LabelledModel> models;
+  for (const granular::LabelledModel& model : granular::readClassModels(models_folder)) {
+    // Only the labels and file names come from granular's reader; the clouds are read again.
+    models.push_back({model.label, readWithPcl(models_folder / (model.label + ".pcd"))});
+    run.models.push_back(model.label);
+  }
+  std::vector<granular::ModelCloud> objects;
+  for (const std::filesystem::path& file : granular::listAllObjectFiles(objects_folder)) {
+    objects.push_back(readWithPcl(file));
+    granular::ObjectRecord record;
+    record.file = file.filename().string();
+    record.true_label = granular::objectClass(file);
+    record.points = objects.back().size();
+    record.points_used = granular::registrationSource(objects.back(), config.source_min_z)->size();
+    run.objects.push_back(record);
+  }
+  const auto results = granular::registerObjectsReference(method, config, models, objects);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    run.objects[i].per_model = results[i];
+    run.objects[i].predictions = granular::predict(results[i]);
+  }
+  granular::writeClassificationJson(json, run);
+  return run;
+}
+
+// --end-to-end: each method's whole run, ours then the plain loop's, and their ratio.
+void endToEnd(const Options& options, const granular::RegistrationClassifierConfig& config) {
+  const std::filesystem::path out = *options.end_to_end;
+  std::filesystem::create_directories(out);
+  std::printf("whole runs, reading the files to the JSON written (into %s), preset %s\n",
+              out.c_str(), options.preset.c_str());
+  std::printf("%-8s %10s %16s %16s %9s %12s\n", "method", "objects", "plain loop, whole",
+              "granular, whole", "speed-up", "different");
+  for (const std::string& name : options.methods) {
+    const granular::RegistrationMethod method = *granular::registrationMethodFromName(name);
+    granular::ClassifyFolderOptions fast_options;
+    fast_options.preset = options.preset;
+    fast_options.registration.threads = options.threads;
+    auto start = std::chrono::steady_clock::now();
+    const granular::ClassificationRun fast =
+        granular::classifyFolder(options.models, options.objects, method, config, fast_options);
+    granular::writeClassificationJson(out / (name + "_granular.json"), fast);
+    const double fast_seconds = secondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    const granular::ClassificationRun plain = plainWholeRun(
+        options.models, options.objects, method, config, out / (name + "_plain_loop.json"));
+    const double plain_seconds = secondsSince(start);
+
+    std::vector<std::vector<granular::PairResult>> fast_pairs, plain_pairs;
+    for (std::size_t i = 0; i < fast.objects.size(); ++i) {
+      fast_pairs.push_back(fast.objects[i].per_model);
+      plain_pairs.push_back(plain.objects[i].per_model);
+    }
+    std::printf("%-8s %10zu %15.2fs %15.3fs %8.1fx %12zu\n", name.c_str(), fast.objects.size(),
+                plain_seconds, fast_seconds, plain_seconds / fast_seconds,
+                differentPredictions(plain_pairs, fast_pairs));
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -143,7 +231,8 @@ int main(int argc, char** argv) {
               })
       .value("--preset", options.preset)
       .value("--config", options.config_file)
-      .threads("--threads", options.threads);
+      .threads("--threads", options.threads)
+      .value("--end-to-end", options.end_to_end);
   const auto configure = [&] {
     config = granular_ros::resolvePreset(options.config_file, options.preset);
     for (const std::string& method : options.methods) {
@@ -154,6 +243,10 @@ int main(int argc, char** argv) {
   };
   return tool.run(argc, argv, configure, [&] {
     pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+    if (options.end_to_end) {
+      endToEnd(options, config);
+      return;
+    }
     const std::vector<granular::LabelledModel> models = granular::readClassModels(options.models);
     const Objects read = readObjects(options.objects);
     const std::vector<granular::ModelCloud>& objects = read.clouds;

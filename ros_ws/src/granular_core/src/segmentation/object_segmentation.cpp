@@ -268,19 +268,24 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // strictly above and to the right of each of its points, and likewise for the other three
   // quadrants; no direction has one of its points extreme. The footprint's hull is taken over
   // the other cells' points only (on a near car most cells are inner), with the same result.
-  std::vector<bool> inner(occupied.size(), false);
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    const int row = static_cast<int>(occupied[k] / grid.side);
-    const int col = static_cast<int>(occupied[k] % grid.side);
-    if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
-      continue;
+  // innerCells: per cell of `cells` (the only cells whose slot_ is set), whether it is inner.
+  const auto innerCells = [&](const std::vector<std::uint32_t>& cells) {
+    std::vector<bool> inner(cells.size(), false);
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      const int row = static_cast<int>(occupied[cells[j]] / grid.side);
+      const int col = static_cast<int>(occupied[cells[j]] % grid.side);
+      if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
+        continue;
+      }
+      const auto held = [&](int r, int c) {
+        return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
+      };
+      inner[j] = held(row - 1, col - 1) && held(row - 1, col + 1) && held(row + 1, col - 1) &&
+                 held(row + 1, col + 1);
     }
-    const auto occupiedAt = [&](int r, int c) {
-      return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
-    };
-    inner[k] = occupiedAt(row - 1, col - 1) && occupiedAt(row - 1, col + 1) &&
-               occupiedAt(row + 1, col - 1) && occupiedAt(row + 1, col + 1);
-  }
+    return inner;
+  };
+  const std::vector<bool> inner = innerCells(all_cells);  // all_cells[k] == k
   for (const std::uint32_t cell : occupied) {
     slot_[cell] = -1;  // empty again for the next frame
   }
@@ -579,19 +584,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     for (const std::uint32_t k : cells) {
       slot_[occupied[k]] = 0;
     }
-    std::vector<bool> piece_inner(cells.size(), false);
-    for (std::size_t j = 0; j < cells.size(); ++j) {
-      const int row = static_cast<int>(occupied[cells[j]] / grid.side);
-      const int col = static_cast<int>(occupied[cells[j]] % grid.side);
-      if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
-        continue;
-      }
-      const auto held = [&](int r, int c) {
-        return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
-      };
-      piece_inner[j] = held(row - 1, col - 1) && held(row - 1, col + 1) &&
-                       held(row + 1, col - 1) && held(row + 1, col + 1);
-    }
+    std::vector<bool> piece_inner = innerCells(cells);
     for (const std::uint32_t k : cells) {
       slot_[occupied[k]] = -1;
     }

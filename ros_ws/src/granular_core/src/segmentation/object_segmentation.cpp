@@ -311,7 +311,8 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // points, and the footprint's hull and the covariance are only needed for the rest. A
   // segment that passes is added to the result; otherwise the first failing gate is returned.
   // `cell_inner`: per cell, whether it is inner among `cells` (above): no corner of the
-  // footprint is there.
+  // footprint is there. `wall_direction` (rad): for a piece left by a peeled wall, the wall's,
+  // along which a thin piece is more of the wall.
   const double max_spread = std::hypot(config.gates.max_length, config.gates.max_width);
   const auto gate = [&](const std::vector<std::uint32_t>& cells,
                         const std::vector<bool>& cell_inner,

@@ -155,8 +155,9 @@ class ObjectSegmenter {
   explicit ObjectSegmenter(const ObjectSegmentationConfig& config = {});
 
   /// The segments of `cloud` (sensor frame, z up) standing on `ground` (estimateGround of the
-  /// same cloud), in the order of their first cell in a row-major scan of the grid. `ground`
-  /// becomes the result's.
+  /// same cloud), in the order of their first cell in a row-major scan of the grid (the
+  /// pieces of a segment a wall was peeled from in its place, in the same order among them).
+  /// `ground` becomes the result's.
   ObjectSegmentation segment(const Cloud& cloud, GroundEstimate ground);
 
   const ObjectSegmentationConfig& config() const { return config_; }

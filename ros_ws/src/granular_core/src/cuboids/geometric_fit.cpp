@@ -40,19 +40,9 @@ const SizePrior* choosePrior(const CuboidConfig& config, double height, bool cap
 // tall enough, and narrow above the rider's waist along both axes of `rectangle`.
 bool isRider(const cuboids::LevelledObject& object, const AxisRectangle& rectangle,
              const GeometricFitConfig& config) {
-  if (object.top < config.rider_min_top) {
-    return false;
-  }
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d high = -low;
-  for (const Eigen::Vector3d& point : object.points) {
-    if (point.z() >= config.rider_above * object.top) {
-      const Eigen::Vector2d c = rectangle.coordinates(point.head<2>());
-      low = low.cwiseMin(c);
-      high = high.cwiseMax(c);
-    }
-  }
-  return (high - low).maxCoeff() <= config.rider_width;
+  return object.top >= config.rider_min_top &&
+         cuboids::extentAbove(object, rectangle, config.rider_above * object.top).maxCoeff() <=
+             config.rider_width;
 }
 
 }  // namespace

@@ -104,17 +104,22 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
   return nearest;
 }
 
-Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& rectangle) {
+Eigen::Vector2d extentAbove(const LevelledObject& object, const AxisRectangle& rectangle,
+                            double height) {
   Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d high = -low;
   for (const Eigen::Vector3d& point : object.points) {
-    if (point.z() >= object.top / 3) {
+    if (point.z() >= height) {
       const Eigen::Vector2d c = rectangle.coordinates(point.head<2>());
       low = low.cwiseMin(c);
       high = high.cwiseMax(c);
     }
   }
   return (high.array() >= low.array()).all() ? Eigen::Vector2d(high - low) : rectangle.extent();
+}
+
+Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& rectangle) {
+  return extentAbove(object, rectangle, object.top / 3);
 }
 
 int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,

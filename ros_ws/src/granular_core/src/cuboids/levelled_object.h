@@ -50,9 +50,13 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
 /// enclosing them all.
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config);
 
-/// The extents along `rectangle`'s axes of the points of `object` in its upper half (at least
-/// half its top high): its body, without the wheels and the underside seen below it, which
-/// would make a rear face look deep. The rectangle's own extents when none are there.
+/// The extents along `rectangle`'s axes of the points of `object` at least `height` m high;
+/// the rectangle's own extents when none are there.
+Eigen::Vector2d extentAbove(const LevelledObject& object, const AxisRectangle& rectangle,
+                            double height);
+
+/// extentAbove a third of the top: the object's body, without the wheels and the underside
+/// seen below it, which would make a rear face look deep.
 Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& rectangle);
 
 /// Which axis of a rectangle of extents `seen` (0: u, 1: v) is the length of an object whose

@@ -80,6 +80,22 @@ class Components {
   std::vector<std::uint32_t> size_;
 };
 
+// The places 0 .. count - 1 grouped by their component (ascending within each), the groups in
+// the order of their first place.
+std::vector<std::vector<std::uint32_t>> groupsOf(Components& components, std::size_t count) {
+  std::vector<std::int32_t> group_of_root(count, -1);
+  std::vector<std::vector<std::uint32_t>> groups;
+  for (std::uint32_t place = 0; place < count; ++place) {
+    const std::uint32_t root = components.find(place);
+    if (group_of_root[root] < 0) {
+      group_of_root[root] = static_cast<std::int32_t>(groups.size());
+      groups.emplace_back();
+    }
+    groups[static_cast<std::size_t>(group_of_root[root])].push_back(place);
+  }
+  return groups;
+}
+
 // What the gates look at, for one segment.
 struct SegmentShape {
   Rectangle footprint;
@@ -294,18 +310,9 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     top_of_cell[renumbered[k]] = cell_top[k];
   }
 
-  // Each component's cells, components in the order of their first cell.
-  std::vector<std::int32_t> component_of_root(occupied.size(), -1);
-  std::vector<std::vector<std::uint32_t>> component_cells;
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    const std::uint32_t root = components.find(static_cast<std::uint32_t>(k));
-    if (component_of_root[root] < 0) {
-      component_of_root[root] = static_cast<std::int32_t>(component_cells.size());
-      component_cells.emplace_back();
-    }
-    component_cells[static_cast<std::size_t>(component_of_root[root])].push_back(
-        static_cast<std::uint32_t>(k));
-  }
+  // Each component's cells (places in all_cells are the cells), in the order of their first.
+  const std::vector<std::vector<std::uint32_t>> component_cells =
+      groupsOf(components, occupied.size());
 
   // Cells (ascending) through the gates, cheapest first: most components are a few stray
   // points, and the footprint's hull and the covariance are only needed for the rest. A
@@ -551,30 +558,23 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     for (const std::uint32_t k : left) {
       slot_[occupied[k]] = -1;
     }
-    std::vector<std::int32_t> piece_of_root(left.size(), -1);
-    std::vector<std::vector<std::uint32_t>> pieces;
-    std::vector<bool> beside_wall;  // per piece: every cell within the wall's thickness of it
+    // Slivers of the wall itself (its far face, a rough hedge's fringe: every cell within the
+    // wall's thickness of the band, along the run) are no objects.
     const double run_from = band[run_first].first, run_to = band[run_last].first;
-    for (std::size_t j = 0; j < left.size(); ++j) {
-      const std::uint32_t root = joined.find(static_cast<std::uint32_t>(j));
-      if (piece_of_root[root] < 0) {
-        piece_of_root[root] = static_cast<std::int32_t>(pieces.size());
-        pieces.emplace_back();
-        beside_wall.push_back(true);
-      }
-      const auto piece = static_cast<std::size_t>(piece_of_root[root]);
-      pieces[piece].push_back(left[j]);
-      const std::size_t place = left_place[j];
+    const auto besideWall = [&](std::size_t place) {
       const double at = along.dot(centres[place]);
-      beside_wall[piece] = beside_wall[piece] && off_line[place] <= half_band + walls.thickness &&
-                           at >= run_from - config.cell_size && at <= run_to + config.cell_size;
-    }
-    // Slivers of the wall itself (its far face, a rough hedge's fringe) are no objects.
+      return off_line[place] <= half_band + walls.thickness && at >= run_from - config.cell_size &&
+             at <= run_to + config.cell_size;
+    };
     PeeledWall peeled;
     peeled.direction = std::atan2(along.y(), along.x());
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      if (!beside_wall[p]) {
-        peeled.pieces.push_back(std::move(pieces[p]));
+    for (std::vector<std::uint32_t>& piece : groupsOf(joined, left.size())) {
+      if (!std::all_of(piece.begin(), piece.end(),
+                       [&](std::uint32_t j) { return besideWall(left_place[j]); })) {
+        for (std::uint32_t& cell : piece) {
+          cell = left[cell];
+        }
+        peeled.pieces.push_back(std::move(piece));
       }
     }
     return peeled;

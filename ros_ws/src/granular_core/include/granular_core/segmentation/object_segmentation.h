@@ -67,9 +67,10 @@ struct SegmentGates {
 /// hedge with a car or a post touching it. Its longest straight run of cells (a Hough search
 /// over the cells' centres) at most `thickness` thick, longer than the gates' wall_length and
 /// holding at least `min_share` of its cells is taken away, and what is left splits into pieces
-/// that go through the gates again, up to `max_walls` times per segment. Slivers of the wall left beside it (its far
-/// face, a hedge's fringe) are dropped, and so is a piece thinner than the gates' wall_width
-/// within parallel_deg of the wall's direction: more of the same wall where it steps in or out.
+/// that go through the gates again, up to `max_walls` times per segment. Slivers of the wall
+/// left beside it (its far face, a hedge's fringe) are dropped, and so is a piece thinner than
+/// the gates' wall_width within parallel_deg of the wall's direction: more of the same wall
+/// where it steps in or out.
 struct WallPeeling {
   int max_walls = 1;           ///< walls taken from one segment; 0: none
   double thickness = 0.3;      ///< m, across the wall

@@ -139,8 +139,10 @@ std::size_t differentPairs(const std::vector<std::vector<granular::PairResult>>&
 }
 
 // The plain loop's whole run, as a seed-style tool would do it: PCL's generic reader for every
-// model and object file, the report's loop, then the results JSON (the same writer as ours).
+// model (`<label>.pcd`) and object file, the report's loop, then the results JSON (the same
+// writer as ours).
 granular::ClassificationRun plainWholeRun(const std::filesystem::path& models_folder,
+                                          const std::vector<std::string>& model_labels,
                                           const std::filesystem::path& objects_folder,
                                           granular::RegistrationMethod method,
                                           const granular::RegistrationClassifierConfig& config,
@@ -156,11 +158,10 @@ granular::ClassificationRun plainWholeRun(const std::filesystem::path& models_fo
   run.method = method;
   run.config = config;
   std::vector<granular::LabelledModel> models;
-  for (const granular::LabelledModel& model : granular::readClassModels(models_folder)) {
-    // Only the labels and file names come from granular's reader; the clouds are read again.
-    models.push_back({model.label, readWithPcl(models_folder / (model.label + ".pcd"))});
-    run.models.push_back(model.label);
+  for (const std::string& label : model_labels) {
+    models.push_back({label, readWithPcl(models_folder / (label + ".pcd"))});
   }
+  run.models = model_labels;
   std::vector<granular::ModelCloud> objects;
   for (const std::filesystem::path& file : granular::listAllObjectFiles(objects_folder)) {
     objects.push_back(readWithPcl(file));
@@ -200,8 +201,10 @@ void endToEnd(const Options& options, const granular::RegistrationClassifierConf
     const double fast_seconds = secondsSince(start);
 
     start = std::chrono::steady_clock::now();
-    const granular::ClassificationRun plain = plainWholeRun(
-        options.models, options.objects, method, config, out / (name + "_plain_loop.json"));
+    // The model labels granular's run found: the plain run reads their files, not the folder.
+    const granular::ClassificationRun plain =
+        plainWholeRun(options.models, fast.models, options.objects, method, config,
+                      out / (name + "_plain_loop.json"));
     const double plain_seconds = secondsSince(start);
 
     std::vector<std::vector<granular::PairResult>> fast_pairs, plain_pairs;

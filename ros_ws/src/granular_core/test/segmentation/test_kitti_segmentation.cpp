@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "granular_core/geometry/oriented_box.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "support/kitti.h"
 
@@ -18,23 +19,25 @@ namespace granular {
 namespace {
 
 // The frame's labels (DontCare skipped) holding at least `min_points` of its points.
-std::vector<Detection> labelledObjects(const std::string& frame, const Cloud& cloud,
-                                       std::size_t min_points) {
+std::vector<OrientedBox> labelledObjects(const std::string& frame, const Cloud& cloud,
+                                         std::size_t min_points) {
   const Eigen::Affine3d to_rect =
       testing_kitti::veloToRect(testing_kitti::kFixture / "calib" / (frame + ".txt"));
   std::ifstream labels(testing_kitti::kFixture / "label_2" / (frame + ".txt"));
-  std::vector<Detection> objects;
+  std::vector<OrientedBox> objects;
   for (std::string line; std::getline(labels, line);) {
     if (line.empty() || line.rfind("DontCare", 0) == 0) {
       continue;
     }
-    const Detection box = testing_kitti::labelToDetection(line, to_rect);
-    const Eigen::Matrix3d to_box = box.orientation.normalized().toRotationMatrix().transpose();
+    const Detection label = testing_kitti::labelToDetection(line, to_rect);
+    const OrientedBox box(label.centre, label.orientation, label.size);
+    const Eigen::Isometry3d to_object = box.sensorToObject();  // origin on the bottom face
     std::size_t inside = 0;
     for (const PointXYZIT& point : cloud.points) {
-      const Eigen::Vector3d local =
-          to_box * (point.getVector3fMap().cast<double>() - box.centre);
-      inside += (local.cwiseAbs().array() <= box.size.array() / 2).all();
+      const Eigen::Vector3d local = to_object * point.getVector3fMap().cast<double>();
+      inside += std::abs(local.x()) <= box.size().x() / 2 &&
+                std::abs(local.y()) <= box.size().y() / 2 && local.z() >= 0 &&
+                local.z() <= box.size().z();
     }
     if (inside >= min_points) {
       objects.push_back(box);
@@ -44,12 +47,11 @@ std::vector<Detection> labelledObjects(const std::string& frame, const Cloud& cl
 }
 
 // Whether a segment's box centre lies in the object's footprint, seen from above.
-bool inFootprint(const Segment& segment, const Detection& object) {
-  const Eigen::Vector3d heading = object.orientation.normalized() * Eigen::Vector3d::UnitX();
-  const double yaw = std::atan2(heading.y(), heading.x());
+bool inFootprint(const Segment& segment, const OrientedBox& object) {
   const Eigen::Vector2d offset =
-      Eigen::Rotation2Dd(-yaw) * (segment.box.centre() - object.centre).head<2>();
-  return std::abs(offset.x()) <= object.size.x() / 2 && std::abs(offset.y()) <= object.size.y() / 2;
+      Eigen::Rotation2Dd(-object.yaw()) * (segment.box.centre() - object.centre()).head<2>();
+  return std::abs(offset.x()) <= object.size().x() / 2 &&
+         std::abs(offset.y()) <= object.size().y() / 2;
 }
 
 TEST(KittiSegmentationTest, EveryLabelledObjectHasASegmentInItsFootprint) {
@@ -66,14 +68,14 @@ TEST(KittiSegmentationTest, EveryLabelledObjectHasASegmentInItsFootprint) {
                                                     (std::string(frame) + ".bin"));
     const std::vector<Segment> segments = segmentObjects(cloud).segments;
     const std::vector<Segment> unpeeled = segmentObjects(cloud, {}, no_peeling).segments;
-    for (const Detection& object : labelledObjects(frame, cloud, 10)) {
+    for (const OrientedBox& object : labelledObjects(frame, cloud, 10)) {
       ++objects;
       const auto hit = [&](const std::vector<Segment>& all) {
         return std::any_of(all.begin(), all.end(),
                            [&](const Segment& segment) { return inFootprint(segment, object); });
       };
-      EXPECT_TRUE(hit(segments)) << "frame " << frame << ": the " << object.label << " at ("
-                                 << object.centre.x() << ", " << object.centre.y() << ")";
+      EXPECT_TRUE(hit(segments)) << "frame " << frame << ": the object at ("
+                                 << object.centre().x() << ", " << object.centre().y() << ")";
       found += hit(segments);
       found_without_peeling += hit(unpeeled);
     }

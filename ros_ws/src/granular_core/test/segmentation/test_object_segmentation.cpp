@@ -118,8 +118,60 @@ TEST(ObjectSegmentationTest, FarCellsJoinAcrossTheGapsBetweenReturns) {
   ObjectSegmentationConfig config;
   config.azimuth_step_deg = 0.5;
   ASSERT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 1u);
-  config.link_azimuth_steps = 0.0;  // touching cells only: each of the 14 columns alone
+  config.link_range_steps = 0.0;  // touching cells only: each of the 14 columns alone
   EXPECT_EQ(segmentObjects(cloud, roadGround(), config).segments.size(), 14u);
+}
+
+// A vertical face seen by a LiDAR `step_deg` between returns: one column of returns 0.3 m to
+// 1.4 m above the road per azimuth, from `first` to `last` returns, each where the ray from
+// the sensor meets the line from `from` to `to` (bird's-eye, metres).
+void addScannedFace(Cloud& cloud, double step_deg, int first, int last,
+                    const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  for (int k = first; k <= last; ++k) {
+    const double azimuth = k * step_deg * M_PI / 180.0;
+    const Eigen::Vector2d ray(std::cos(azimuth), std::sin(azimuth));
+    const Eigen::Vector2d along = to - from;
+    // from + t along = s ray: solve for s, the range.
+    const double range = (from.x() * along.y() - from.y() * along.x()) /
+                         (ray.x() * along.y() - ray.y() * along.x());
+    for (double h = 0.3; h <= 1.4; h += 0.1) {
+      cloud.push_back(PointXYZIT(static_cast<float>(range * ray.x()),
+                                 static_cast<float>(range * ray.y()),
+                                 static_cast<float>(-kSensorHeight + h), 0, 0.0));
+    }
+  }
+}
+
+std::size_t segmentsOf(const Cloud& cloud, const ObjectSegmentationConfig& config) {
+  return segmentObjects(cloud, roadGround(), config).segments.size();
+}
+
+TEST(ObjectSegmentationTest, FarCarsSideBySideOnASparseLidarAreTwoSegments) {
+  // The simulator's LiDAR, 1 deg between returns: the rears of two cars 30 m ahead, two
+  // returns' spacing (1.05 m) between them across the line of sight.
+  Cloud cloud = road();
+  addScannedFace(cloud, 1.0, -3, 0, {30.0, -5.0}, {30.0, 5.0});
+  addScannedFace(cloud, 1.0, 3, 6, {30.0, -5.0}, {30.0, 5.0});
+  ObjectSegmentationConfig config;
+  config.azimuth_step_deg = 1.0;
+  EXPECT_EQ(segmentsOf(cloud, config), 2u);
+  config.link_azimuth_steps = config.link_range_steps;  // across as far as along: one
+  EXPECT_EQ(segmentsOf(cloud, config), 1u);
+}
+
+TEST(ObjectSegmentationTest, AFaceSeenAtASlantStaysOneSegment) {
+  // A car's side 20 m away, 25 deg off the line of sight: its returns, 1 deg apart, lie
+  // 0.35 m apart across the line of sight but 0.75 m apart along it.
+  Cloud cloud = road();
+  const double slant = 25.0 * M_PI / 180.0;
+  const Eigen::Vector2d from(20.0, 0.0);
+  addScannedFace(cloud, 1.0, 0, 5, from, from + 4.0 * Eigen::Vector2d(std::cos(slant),
+                                                                     std::sin(slant)));
+  ObjectSegmentationConfig config;
+  config.azimuth_step_deg = 1.0;
+  EXPECT_EQ(segmentsOf(cloud, config), 1u);
+  config.link_range_steps = config.link_azimuth_steps;  // along only as far as across: split
+  EXPECT_GT(segmentsOf(cloud, config), 1u);
 }
 
 TEST(ObjectSegmentationTest, AFilledFootprintGetsTheRectangleOfAllItsPoints) {

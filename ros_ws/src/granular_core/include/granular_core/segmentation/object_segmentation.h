@@ -110,9 +110,14 @@ struct ObjectSegmentationConfig {
   double cell_size = 0.15;   ///< m, the paper's cell
   /// Occupied cells up to link_cells rows or columns apart join (1: touching cells) ...
   int link_cells = 1;
-  /// ... or farther, up to link_azimuth_steps returns' spacing along a ring at the cell's
-  /// range: a cell at range r joins cells up to link_azimuth_steps * r * azimuth_step apart.
-  double link_azimuth_steps = 3.3;
+  /// ... or farther, up to link_range_steps returns' spacing along a ring at the cell's range:
+  /// a cell at range r reaches cells up to link_range_steps * r * azimuth_step rows or columns
+  /// away. Consecutive returns on a face seen at a slant lie that far apart in range.
+  double link_range_steps = 3.3;
+  /// Across the line of sight, though, two cells join only up to link_azimuth_steps returns'
+  /// spacing at their range (and one cell) apart: neighbours along a ring, not the car parked
+  /// beside (docs/segmentation.md).
+  double link_azimuth_steps = 1.2;
   /// deg: the sensor's angle between returns along a ring (HDL-64E 0.176; the simulator 1).
   double azimuth_step_deg = 0.176;
   SegmentGates gates;
@@ -126,6 +131,7 @@ struct ObjectSegmentationConfig {
     visit("max_range", self.max_range, positive("m"));
     visit("cell_size", self.cell_size, positive("m"));
     visit("link_cells", self.link_cells, interval(1, 100, "cells"));
+    visit("link_range_steps", self.link_range_steps, nonNegative("returns"));
     visit("link_azimuth_steps", self.link_azimuth_steps, nonNegative("returns"));
     visit("azimuth_step_deg", self.azimuth_step_deg, positive("deg"));
     visit("gates", self.gates);

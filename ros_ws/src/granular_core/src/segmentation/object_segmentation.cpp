@@ -246,29 +246,29 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   const double step_rad = config.azimuth_step_deg * M_PI / 180.0;
   const double reach_per_m = config.link_range_steps * step_rad / config.cell_size;
   std::vector<int> link(occupied.size());
+  std::vector<Eigen::Vector2d> centre(occupied.size());
+  std::vector<double> range(occupied.size());
   for (std::size_t k = 0; k < occupied.size(); ++k) {
-    const double range = std::hypot(grid.centre(static_cast<int>(occupied[k] % grid.side)),
-                                     grid.centre(static_cast<int>(occupied[k] / grid.side)));
-    link[k] = std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * range)));
+    centre[k] = Eigen::Vector2d(grid.centre(static_cast<int>(occupied[k] % grid.side)),
+                                grid.centre(static_cast<int>(occupied[k] / grid.side)));
+    range[k] = centre[k].norm();
+    link[k] = std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * range[k])));
   }
-  // Whether cells (row, col) and (r, c) lie close enough across the line of sight: the nearer
-  // one's offset from the ray to the farther one, against link_azimuth_steps returns' spacing
-  // at the farther one's range (at least link_cells), and one cell for where in their cells
-  // the points lie.
+  // Cells farther apart than link_cells join only when close across the line of sight: the
+  // nearer one's offset from the ray to the farther one (|a x b| / |b|) at most
+  // link_azimuth_steps returns' spacing at the farther one's range, and one cell for where in
+  // their cells the points lie.
   const double across_per_m = config.link_azimuth_steps * step_rad;
-  const double least_across = config.link_cells * config.cell_size;
-  const auto closeAcross = [&](int row, int col, int r, int c) {
-    const double x1 = grid.centre(col), y1 = grid.centre(row);
-    const double x2 = grid.centre(c), y2 = grid.centre(r);
-    const double range = std::max(std::hypot(x1, y1), std::hypot(x2, y2));
-    const double across = std::abs(x1 * y2 - y1 * x2) / range;  // |p1 x p2| / |p|
-    return across <= std::max(least_across, across_per_m * range) + config.cell_size;
+  const auto closeAcross = [&](std::uint32_t a, std::uint32_t b) {
+    const double farther = std::max(range[a], range[b]);
+    const double cross = std::abs(centre[a].x() * centre[b].y() - centre[a].y() * centre[b].x());
+    return cross <= (across_per_m * farther + config.cell_size) * farther;
   };
-  // A pair of cells joins when it lies within the larger of their two reaches and close
-  // enough across the line of sight. The reach grows by at most one cell over a reach's
-  // distance, so scanning the rows and columns after each cell up to its reach plus one finds
-  // every pair once. `cells` are occupied cells (k) whose slot_ holds their place in `cells`;
-  // `components` joins places.
+  // A pair of cells joins when it lies within the larger of their two reaches (and, beyond
+  // link_cells, close across the line of sight). The reach grows by at most one cell over a
+  // reach's distance, so scanning the rows and columns after each cell up to its reach plus one
+  // finds every pair once. `cells` are occupied cells (k) whose slot_ holds their place in
+  // `cells`; `components` joins places.
   const auto joinNeighbours = [&](const std::vector<std::uint32_t>& cells,
                                   Components& components) {
     for (std::size_t j = 0; j < cells.size(); ++j) {
@@ -281,10 +281,13 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
         const std::int32_t* slots = slot_.data() + static_cast<std::size_t>(r) * grid.side;
         for (int c = first_col; c <= std::min(col + window, grid.side - 1); ++c) {
           const std::int32_t other = slots[c];
-          if (other >= 0 &&
-              std::max(r - row, std::abs(c - col)) <=
-                  std::max(link[k], link[cells[static_cast<std::size_t>(other)]]) &&
-              closeAcross(row, col, r, c)) {
+          if (other < 0) {
+            continue;
+          }
+          const std::uint32_t l = cells[static_cast<std::size_t>(other)];
+          const int apart = std::max(r - row, std::abs(c - col));
+          if (apart <= config.link_cells ||
+              (apart <= std::max(link[k], link[l]) && closeAcross(k, l))) {
             components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
           }
         }

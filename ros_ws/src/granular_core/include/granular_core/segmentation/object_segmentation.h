@@ -114,9 +114,9 @@ struct ObjectSegmentationConfig {
   /// a cell at range r reaches cells up to link_range_steps * r * azimuth_step rows or columns
   /// away. Consecutive returns on a face seen at a slant lie that far apart in range.
   double link_range_steps = 3.3;
-  /// Across the line of sight, though, two cells join only up to link_azimuth_steps returns'
-  /// spacing at their range (and one cell) apart: neighbours along a ring, not the car parked
-  /// beside (docs/segmentation.md).
+  /// Across the line of sight, though, cells farther apart than link_cells join only up to
+  /// link_azimuth_steps returns' spacing at their range (and one cell) apart: neighbours along
+  /// a ring, not the car parked beside (docs/segmentation.md).
   double link_azimuth_steps = 1.2;
   /// deg: the sensor's angle between returns along a ring (HDL-64E 0.176; the simulator 1).
   double azimuth_step_deg = 0.176;

@@ -52,7 +52,12 @@ std::string usage() {
          "  --background      also extract Background objects for training: every frame is\n"
          "                    segmented as the box-free path does, and the segments on no\n"
          "                    true box are written under the label of --segmentation-config's\n"
-         "                    background section (docs/segmentation.md); with:\n" +
+         "                    background section (docs/segmentation.md); with:\n"
+         "  --segment-objects with --background, the other classes' objects are segments too:\n"
+         "                    each segment with at least background.min_object_share of its\n"
+         "                    points on one true box, in its segment's box under that box's\n"
+         "                    label, instead of the true boxes' crops (what the box-free path\n"
+         "                    will show a classifier)\n" +
          granular_ros::BoxFreeOptions::help() +
          "  --threshold-folders\n"
          "                    write N<thresh>/ inside --out even for a single threshold\n"
@@ -85,6 +90,7 @@ struct Options {
   std::optional<std::string> padding;
   std::string boxes;
   bool background = false;
+  bool segment_objects = false;
   granular_ros::BoxFreeOptions box_free;
   bool overwrite = false;
   bool threshold_folders = false;
@@ -134,14 +140,17 @@ int main(int argc, char** argv) {
       .value("--labels", options.labels)
       .value("--padding", options.padding)
       .value("--boxes", options.boxes)
-      .flag("--background", options.background);
+      .flag("--background", options.background)
+      .flag("--segment-objects", options.segment_objects);
   options.box_free.addTo(tool.options());
   std::optional<granular::BackgroundHarvest> background;
   const auto configure = [&] {
     config = buildExtractionConfig(options);
     if (options.background) {
-      background = granular::BackgroundHarvest{options.box_free.ground(),
-                                                options.box_free.segmentation()};
+      background = granular::BackgroundHarvest{
+          options.box_free.ground(), options.box_free.segmentation(), options.segment_objects};
+    } else if (options.segment_objects) {
+      throw std::invalid_argument("--segment-objects goes with --background");
     } else if (options.box_free.given()) {
       throw std::invalid_argument(
           "--ground-config, --segmentation-config, --sensor-height and --azimuth-step "

@@ -86,26 +86,41 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
   return objectIndexLine(row);
 }
 
-// The segments on no true box of `detections`, appended to them as detections of the
-// background label, numbered by their place among the frame's segments.
-void appendBackground(const Cloud& cloud, const std::vector<Segment>& segments,
-                      const BackgroundConfig& config, std::vector<Detection>& detections) {
+// The segments of a frame as detections, labelled by the true boxes `detections`
+// (labelSegments): the background ones under the background label, and, with
+// `segment_objects`, the ones on a true box under its label, in place of the true boxes.
+// Numbered by their place among the frame's segments.
+void harvestSegments(const Cloud& cloud, const std::vector<Segment>& segments,
+                     const BackgroundConfig& config, bool segment_objects,
+                     std::vector<Detection>& detections) {
   std::vector<OrientedBox> truth;
+  std::vector<const Detection*> truth_detection;
   for (const Detection& detection : detections) {
     try {
       truth.emplace_back(detection.centre, detection.orientation, detection.size);
+      truth_detection.push_back(&detection);
     } catch (const std::invalid_argument&) {
       // extractObjects reports the box; it cannot be judged on.
     }
   }
-  for (const std::size_t s : backgroundSegments(cloud, segments, truth, config)) {
-    Detection background;
-    background.id = static_cast<std::int64_t>(s);
-    background.label = config.label;
-    background.centre = segments[s].box.centre();
-    background.orientation = segments[s].box.orientation();
-    background.size = segments[s].box.size();
-    detections.push_back(background);
+  std::vector<Detection> harvested;
+  for (const LabelledSegment& labelled : labelSegments(cloud, segments, truth, config)) {
+    if (labelled.truth && !segment_objects) {
+      continue;
+    }
+    const Segment& segment = segments[labelled.segment];
+    Detection detection;
+    detection.id = static_cast<std::int64_t>(labelled.segment);
+    detection.label = labelled.truth ? truth_detection[*labelled.truth]->label : config.label;
+    detection.centre = segment.box.centre();
+    detection.orientation = segment.box.orientation();
+    detection.size = segment.box.size();
+    harvested.push_back(detection);
+  }
+  if (segment_objects) {
+    detections = std::move(harvested);
+  } else {
+    detections.insert(detections.end(), harvested.begin(), harvested.end());
   }
 }
 
@@ -227,8 +242,9 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
     const Cloud cloud = readPcd(pcd_folder / (stamp + ".pcd"));
     if (segmenter) {
-      appendBackground(cloud, segmenter->segment(cloud).segments,
-                       options.background->segmentation.background, detections);
+      harvestSegments(cloud, segmenter->segment(cloud).segments,
+                      options.background->segmentation.background,
+                      options.background->segment_objects, detections);
     }
     const FrameExtraction extraction = extractObjects(cloud, detections, frame_config);
     summary.non_finite_points += extraction.non_finite_points;

@@ -165,6 +165,47 @@ TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
   EXPECT_TRUE(summary.warnings.empty());
 }
 
+TEST_F(TemporaryFolderTest, SegmentObjectsAreTheSegmentsOnTheTrueBoxes) {
+  // A car 10 m ahead labelled with a loose box, 6 x 3 m and 0.5 m too far, and a hedge.
+  Cloud cloud = testing_support::road();
+  const std::set<std::size_t> car = testing_support::addBox(cloud, {10.0, 0.0}, 0.0,
+                                                            {4.0, 1.8, 1.5});
+  testing_support::addBox(cloud, {0.0, 8.0}, 0.3, {3.0, 1.0, 1.2});
+  const fs::path in = root_ / "frames";
+  const std::string stamp = "1586102742000000000";
+  fs::create_directories(in / "pcd");
+  writePcdBinary(in / "pcd" / (stamp + ".pcd"), cloud);
+  const double bottom = -testing_support::kSensorHeight;
+  write(in / "detections_3d" / (stamp + ".json"),
+        frameJson(detectionJson(7, "Sedan",
+                                R"({"x": 10.5, "y": 0.0, "z": )" + std::to_string(bottom + 0.75) +
+                                    "}",
+                                R"({"x": 6.0, "y": 3.0, "z": 1.5})")));
+  ExtractionConfig config;
+  config.n_thresh = {10};
+  // The centre of the Sedan object's points in its own frame.
+  const auto centre = [&](bool segment_objects) {
+    ExtractFolderOptions options;
+    options.output.overwrite = true;
+    options.background = BackgroundHarvest{testing_support::roadGround(), {}, segment_objects};
+    const ExtractFolderSummary summary = extractFolder(in, root_ / "objects", config, options);
+    EXPECT_EQ(summary.objects.at(10).at("Sedan"), 1u);
+    EXPECT_EQ(summary.objects.at(10).at("Background"), 1u);
+    const Cloud sedan = readPcd(root_ / "objects" / ("Sedan-" + stamp + "-1.pcd"));
+    EXPECT_EQ(std::count_if(sedan.begin(), sedan.end(),
+                            [](const PointXYZIT& point) { return point.z > 0.1f; }),
+              static_cast<std::ptrdiff_t>(car.size()));
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    for (const PointXYZIT& point : sedan) {
+      sum += Eigen::Vector2d(point.x, point.y);
+    }
+    return Eigen::Vector2d(sum / static_cast<double>(sedan.size()));
+  };
+  // In its segment's box the car is centred; in the loose box it sits 0.5 m back.
+  EXPECT_LT(centre(true).cwiseAbs().maxCoeff(), 0.1);
+  EXPECT_LT(centre(false).x(), -0.4);
+}
+
 TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {
   const fs::path out = root_ / "objects";
   write(out / "keep.txt", "mine");

@@ -1,4 +1,5 @@
 // The Background class: which segments of a labelled frame lie on no labelled object.
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -38,6 +39,34 @@ TEST(BackgroundTest, SegmentsOffEveryTrueBoxAreBackgroundAndOnesOnABoxAreNot) {
   EXPECT_EQ(backgroundSegments(cloud, segments, {trueCar()}), (std::vector<std::size_t>{1}));
   // With no labels in the frame every segment is background.
   EXPECT_EQ(backgroundSegments(cloud, segments, {}), (std::vector<std::size_t>{0, 1, 2}));
+}
+
+TEST(BackgroundTest, SegmentsAreLabelledByTheTrueBoxHoldingMostOfThem) {
+  Cloud cloud;
+  // A second car beside the first: y 2.2 to 4.2, grown by the margin 1.9 to 4.5.
+  const OrientedBox second_car(Eigen::Vector3d(10.0, 3.2, -0.95), Eigen::Quaterniond::Identity(),
+                               Eigen::Vector3d(4.0, 2.0, 1.5));
+  const std::vector<Segment> segments = {
+      row(cloud, 10.0, 2.5, 10),   // on the second car
+      row(cloud, 20.0, 5.0, 10),   // a wall
+      row(cloud, 10.0, -0.5, 10),  // on the first car
+      row(cloud, 10.0, 0.95, 10),  // y 0.95 to 1.85: 4 points on the first car (y <= 1.3)
+  };
+  const std::vector<LabelledSegment> labelled =
+      labelSegments(cloud, segments, {trueCar(), second_car});
+  ASSERT_EQ(labelled.size(), 3u);  // the last is neither background nor one car's
+  EXPECT_EQ(labelled[0].segment, 0u);
+  EXPECT_EQ(labelled[0].truth, std::optional<std::size_t>(1));
+  EXPECT_EQ(labelled[1].segment, 1u);
+  EXPECT_FALSE(labelled[1].truth);
+  EXPECT_EQ(labelled[2].segment, 2u);
+  EXPECT_EQ(labelled[2].truth, std::optional<std::size_t>(0));
+  BackgroundConfig config;
+  config.min_object_share = 0.3;  // 4 of 10 on the first car is enough now
+  const std::vector<LabelledSegment> looser =
+      labelSegments(cloud, segments, {trueCar(), second_car}, config);
+  ASSERT_EQ(looser.size(), 4u);
+  EXPECT_EQ(looser[3].truth, std::optional<std::size_t>(0));
 }
 
 TEST(BackgroundTest, TheShareOnObjectsDecides) {

@@ -22,6 +22,11 @@ namespace granular {
 struct BackgroundHarvest {
   GroundConfig ground;
   SegmentationStageConfig segmentation;
+  /// The other classes' objects are segments too (labelSegments): the frame's boxes are not
+  /// cropped, and each segment on one true box is extracted in its segment's box under that
+  /// box's label, as the box-free path will show it to a classifier (extract_objects
+  /// --segment-objects).
+  bool segment_objects = false;
 };
 
 /// How extractFolder runs, apart from the tunables.

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct BackgroundConfig {
   double margin = 0.3;
   /// A segment with more than this share of its points on objects is no background.
   double max_object_share = 0.1;
+  /// A segment with at least this share of its points on one true box (grown by margin) shows
+  /// that box's object (labelSegments; extract_objects --segment-objects).
+  double min_object_share = 0.5;
   /// deg either side of straight ahead (+x), and m: only segments there are harvested, where
   /// the labels are complete (KITTI labels the camera's view only: 40).
   double half_field_of_view_deg = 180.0;
@@ -31,6 +35,7 @@ struct BackgroundConfig {
     visit("label", self.label, text("a class name"));
     visit("margin", self.margin, nonNegative("m"));
     visit("max_object_share", self.max_object_share, interval(0, 1, ""));
+    visit("min_object_share", self.min_object_share, interval(0, 1, ""));
     visit("half_field_of_view_deg", self.half_field_of_view_deg, interval(0, 180, "deg"));
     visit("max_range", self.max_range, positive("m"));
   }
@@ -39,9 +44,23 @@ struct BackgroundConfig {
 /// Throws std::invalid_argument naming the field for a value out of range or an empty label.
 void validate(const BackgroundConfig& config);
 
+/// A segment of a labelled frame and what it shows: one true box's object, or background.
+struct LabelledSegment {
+  std::size_t segment = 0;            ///< index into the frame's segments
+  std::optional<std::size_t> truth;   ///< index into the true boxes; unset: background
+};
+
+/// The segments of `cloud` within the configured view and range, in order, each labelled by
+/// the true boxes `truth` (grown by config.margin): background when at most max_object_share
+/// of its points lie on any of them, the box holding the most of its points when that box
+/// holds at least min_object_share of them; the segments in between are left out.
+std::vector<LabelledSegment> labelSegments(const Cloud& cloud,
+                                           const std::vector<Segment>& segments,
+                                           const std::vector<OrientedBox>& truth,
+                                           const BackgroundConfig& config = {});
+
 /// The indices into `segments` of the segments of `cloud` that lie on none of the true boxes
-/// `truth` (BackgroundConfig says how that is judged), within the configured view and range,
-/// in order.
+/// `truth` (labelSegments' background), within the configured view and range, in order.
 std::vector<std::size_t> backgroundSegments(const Cloud& cloud,
                                             const std::vector<Segment>& segments,
                                             const std::vector<OrientedBox>& truth,

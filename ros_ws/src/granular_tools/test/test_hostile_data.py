@@ -447,4 +447,7 @@ def test_background_harvest_options_without_background_are_refused(drive, tmp_pa
     result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o",
                             "--sensor-height", "2.3"])
     assert_fails_clearly(result, 2, "--sensor-height", "--background")
+    result = run(EXTRACT + ["--in", drive / "frames", "--out", tmp_path / "o",
+                            "--segment-objects"])
+    assert_fails_clearly(result, 2, "--segment-objects", "--background")
     assert not (tmp_path / "o").exists()

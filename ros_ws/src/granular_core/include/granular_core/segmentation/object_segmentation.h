@@ -18,7 +18,10 @@ namespace granular {
 /// physical reason (docs/segmentation.md gives the measurements); heights are above the
 /// local ground.
 struct SegmentGates {
-  std::size_t min_points = 10;   ///< fewer points cannot be classified (N_thresh 10)
+  /// Fewer points above the ground cannot be classified: an object of N_thresh 10 points in
+  /// its box holds a median of 8 above the ground stage's ground_height (the rest are road
+  /// under and around it; docs/segmentation.md).
+  std::size_t min_points = 7;
   double max_length = 14.0;      ///< m: no rigid road vehicle is longer
   double max_width = 3.5;        ///< m: vehicles are at most about 3 m wide
   double max_area = 40.0;        ///< m^2: a bus is about 31 m^2

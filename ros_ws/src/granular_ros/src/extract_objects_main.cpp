@@ -52,13 +52,13 @@ std::string usage() {
          "  --background      also extract Background objects for training: every frame is\n"
          "                    segmented as the box-free path does, and the segments on no\n"
          "                    true box are written under the label of --segmentation-config's\n"
-         "                    background section (docs/segmentation.md); with:\n"
+         "                    background section (docs/segmentation.md); with:\n" +
+         granular_ros::BoxFreeOptions::help() +
          "  --segment-objects with --background, the other classes' objects are segments too:\n"
          "                    each segment with at least background.min_object_share of its\n"
          "                    points on one true box, in its segment's box under that box's\n"
          "                    label, instead of the true boxes' crops (what the box-free path\n"
          "                    will show a classifier)\n" +
-         granular_ros::BoxFreeOptions::help() +
          "  --threshold-folders\n"
          "                    write N<thresh>/ inside --out even for a single threshold\n"
          "  --labels LIST     labels to extract, comma-separated, e.g. Sedan,SUV (default: all)\n"

@@ -113,9 +113,9 @@ struct ObjectSegmentationConfig {
   double cell_size = 0.15;   ///< m, the paper's cell
   /// Occupied cells up to link_cells rows or columns apart join (1: touching cells) ...
   int link_cells = 1;
-  /// ... or farther, up to link_range_steps returns' spacing along a ring at the cell's range:
-  /// a cell at range r reaches cells up to link_range_steps * r * azimuth_step rows or columns
-  /// away. Consecutive returns on a face seen at a slant lie that far apart in range.
+  /// ... or farther: a cell at range r reaches cells up to link_range_steps * r * azimuth_step
+  /// (that many times the spacing of returns along a ring there) rows or columns away.
+  /// Consecutive returns on a face seen at a slant lie that far apart in range.
   double link_range_steps = 3.3;
   /// Across the line of sight, though, cells farther apart than link_cells join only up to
   /// link_azimuth_steps returns' spacing at their range (and one cell) apart: neighbours along

@@ -5,6 +5,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -131,23 +132,37 @@ TEST_F(ExtractFolderTest, BoxesFromAnotherFolderReplaceTheFramesOwn) {
   EXPECT_EQ(summary.objects.at(10).size(), 1u);
 }
 
-TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
-  // A road with a labelled car 10 m ahead and an unlabelled hedge 8 m to the left.
+// A bag-to-files folder `in` of one frame `kStamp`: a road with a car 10 m ahead, 4 x 1.8 m,
+// labelled Sedan with a box centred `box_x` m ahead of size `box_size` (JSON), and an
+// unlabelled hedge 8 m to the left. The car's and the hedge's points.
+constexpr const char* kStamp = "1586102742000000000";
+std::pair<std::set<std::size_t>, std::set<std::size_t>> writeCarAndHedge(
+    const fs::path& in, double box_x, const std::string& box_size) {
   Cloud cloud = testing_support::road();
-  const std::set<std::size_t> car = testing_support::addBox(cloud, {10.0, 0.0}, 0.0,
-                                                            {4.0, 1.8, 1.5});
-  const std::set<std::size_t> hedge = testing_support::addBox(cloud, {0.0, 8.0}, 0.3,
-                                                              {3.0, 1.0, 1.2});
-  const fs::path in = root_ / "frames";
-  const std::string stamp = "1586102742000000000";
+  std::set<std::size_t> car = testing_support::addBox(cloud, {10.0, 0.0}, 0.0, {4.0, 1.8, 1.5});
+  std::set<std::size_t> hedge = testing_support::addBox(cloud, {0.0, 8.0}, 0.3, {3.0, 1.0, 1.2});
   fs::create_directories(in / "pcd");
-  writePcdBinary(in / "pcd" / (stamp + ".pcd"), cloud);
+  writePcdBinary(in / "pcd" / (std::string(kStamp) + ".pcd"), cloud);
   const double bottom = -testing_support::kSensorHeight;
-  write(in / "detections_3d" / (stamp + ".json"),
-        frameJson(detectionJson(7, "Sedan",
-                                R"({"x": 10.0, "y": 0.0, "z": )" + std::to_string(bottom + 0.75) +
-                                    "}",
-                                R"({"x": 4.0, "y": 1.8, "z": 1.5})")));
+  fs::create_directories(in / "detections_3d");
+  std::ofstream(in / "detections_3d" / (std::string(kStamp) + ".json"))
+      << frameJson(detectionJson(7, "Sedan",
+                                 R"({"x": )" + std::to_string(box_x) + R"(, "y": 0.0, "z": )" +
+                                     std::to_string(bottom + 0.75) + "}",
+                                 box_size));
+  return {std::move(car), std::move(hedge)};
+}
+
+// Points of `cloud` above its object frame's bottom (the road under a box is at 0).
+std::ptrdiff_t pointsAboveTheBottom(const Cloud& cloud) {
+  return std::count_if(cloud.begin(), cloud.end(),
+                       [](const PointXYZIT& point) { return point.z > 0.1f; });
+}
+
+TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
+  const fs::path in = root_ / "frames";
+  const auto [car, hedge] = writeCarAndHedge(in, 10.0, R"({"x": 4.0, "y": 1.8, "z": 1.5})");
+  const std::string stamp = kStamp;
   ExtractionConfig config;
   config.n_thresh = {10};
   config.labels = {"Sedan"};  // the filter keeps the harvest
@@ -159,28 +174,16 @@ TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
   EXPECT_EQ(readPcd(root_ / "objects" / ("Sedan-" + stamp + "-1.pcd")).size(), car.size());
   // The hedge's points, and the road under its segment's box (from the ground up).
   const Cloud background = readPcd(root_ / "objects" / ("Background-" + stamp + "-1.pcd"));
-  EXPECT_EQ(std::count_if(background.begin(), background.end(),
-                          [](const PointXYZIT& point) { return point.z > 0.1f; }),
-            static_cast<std::ptrdiff_t>(hedge.size()));
+  EXPECT_EQ(pointsAboveTheBottom(background), static_cast<std::ptrdiff_t>(hedge.size()));
   EXPECT_TRUE(summary.warnings.empty());
 }
 
 TEST_F(TemporaryFolderTest, SegmentObjectsAreTheSegmentsOnTheTrueBoxes) {
-  // A car 10 m ahead labelled with a loose box, 6 x 3 m and 0.5 m too far, and a hedge.
-  Cloud cloud = testing_support::road();
-  const std::set<std::size_t> car = testing_support::addBox(cloud, {10.0, 0.0}, 0.0,
-                                                            {4.0, 1.8, 1.5});
-  testing_support::addBox(cloud, {0.0, 8.0}, 0.3, {3.0, 1.0, 1.2});
+  // The car labelled with a loose box, 6 x 3 m and 0.5 m too far.
   const fs::path in = root_ / "frames";
-  const std::string stamp = "1586102742000000000";
-  fs::create_directories(in / "pcd");
-  writePcdBinary(in / "pcd" / (stamp + ".pcd"), cloud);
-  const double bottom = -testing_support::kSensorHeight;
-  write(in / "detections_3d" / (stamp + ".json"),
-        frameJson(detectionJson(7, "Sedan",
-                                R"({"x": 10.5, "y": 0.0, "z": )" + std::to_string(bottom + 0.75) +
-                                    "}",
-                                R"({"x": 6.0, "y": 3.0, "z": 1.5})")));
+  const std::set<std::size_t> car =
+      writeCarAndHedge(in, 10.5, R"({"x": 6.0, "y": 3.0, "z": 1.5})").first;
+  const std::string stamp = kStamp;
   ExtractionConfig config;
   config.n_thresh = {10};
   // The centre of the Sedan object's points in its own frame.
@@ -192,9 +195,7 @@ TEST_F(TemporaryFolderTest, SegmentObjectsAreTheSegmentsOnTheTrueBoxes) {
     EXPECT_EQ(summary.objects.at(10).at("Sedan"), 1u);
     EXPECT_EQ(summary.objects.at(10).at("Background"), 1u);
     const Cloud sedan = readPcd(root_ / "objects" / ("Sedan-" + stamp + "-1.pcd"));
-    EXPECT_EQ(std::count_if(sedan.begin(), sedan.end(),
-                            [](const PointXYZIT& point) { return point.z > 0.1f; }),
-              static_cast<std::ptrdiff_t>(car.size()));
+    EXPECT_EQ(pointsAboveTheBottom(sedan), static_cast<std::ptrdiff_t>(car.size()));
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     for (const PointXYZIT& point : sedan) {
       sum += Eigen::Vector2d(point.x, point.y);

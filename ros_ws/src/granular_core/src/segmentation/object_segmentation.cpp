@@ -461,8 +461,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     std::vector<Eigen::Vector2d> centres;
     centres.reserve(cells.size());
     for (const std::uint32_t k : cells) {
-      centres.emplace_back(grid.centre(static_cast<int>(occupied[k] % grid.side)),
-                           grid.centre(static_cast<int>(occupied[k] / grid.side)));
+      centres.push_back(centre[k]);
     }
     // Hough: the direction and the band of `thickness` across it holding the most cells, over
     // at most kHoughCells of them (evenly strided: a building's facade has thousands), at four

@@ -62,17 +62,4 @@ std::vector<LabelledSegment> labelSegments(const Cloud& cloud,
   return labelled;
 }
 
-std::vector<std::size_t> backgroundSegments(const Cloud& cloud,
-                                            const std::vector<Segment>& segments,
-                                            const std::vector<OrientedBox>& truth,
-                                            const BackgroundConfig& config) {
-  std::vector<std::size_t> background;
-  for (const LabelledSegment& segment : labelSegments(cloud, segments, truth, config)) {
-    if (!segment.truth) {
-      background.push_back(segment.segment);
-    }
-  }
-  return background;
-}
-
 }  // namespace granular

@@ -29,6 +29,20 @@ Segment row(Cloud& cloud, double x, double y0, int count) {
   return segment;
 }
 
+// The indices of the segments labelSegments calls background, in order.
+std::vector<std::size_t> backgroundSegments(const Cloud& cloud,
+                                            const std::vector<Segment>& segments,
+                                            const std::vector<OrientedBox>& truth,
+                                            const BackgroundConfig& config = {}) {
+  std::vector<std::size_t> background;
+  for (const LabelledSegment& segment : labelSegments(cloud, segments, truth, config)) {
+    if (!segment.truth) {
+      background.push_back(segment.segment);
+    }
+  }
+  return background;
+}
+
 TEST(BackgroundTest, SegmentsOffEveryTrueBoxAreBackgroundAndOnesOnABoxAreNot) {
   Cloud cloud;
   const std::vector<Segment> segments = {

@@ -18,7 +18,7 @@ namespace granular {
 
 /// Background objects for training (extract_objects --background): every frame is segmented
 /// as the box-free path does, and the segments on no true box are extracted with their
-/// segment's box under segmentation.background.label (backgroundSegments).
+/// segment's box under segmentation.background.label (labelSegments).
 struct BackgroundHarvest {
   GroundConfig ground;
   SegmentationStageConfig segmentation;

@@ -59,11 +59,5 @@ std::vector<LabelledSegment> labelSegments(const Cloud& cloud,
                                            const std::vector<OrientedBox>& truth,
                                            const BackgroundConfig& config = {});
 
-/// The indices into `segments` of the segments of `cloud` that lie on none of the true boxes
-/// `truth` (labelSegments' background), within the configured view and range, in order.
-std::vector<std::size_t> backgroundSegments(const Cloud& cloud,
-                                            const std::vector<Segment>& segments,
-                                            const std::vector<OrientedBox>& truth,
-                                            const BackgroundConfig& config = {});
 
 }  // namespace granular

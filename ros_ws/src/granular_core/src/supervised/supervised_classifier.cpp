@@ -18,6 +18,7 @@
 #include <opencv2/ml.hpp>
 
 #include "granular_core/dataset/atomic_file.h"
+#include "granular_core/supervised/rbf_svm.h"
 
 namespace granular {
 namespace {
@@ -174,6 +175,13 @@ struct SupervisedClassifier::Impl {
   std::vector<float> offset;
   std::vector<float> scale;
   cv::Ptr<cv::ml::StatModel> model;
+  /// The SVM's answers, computed faster than model->predict() and the same (none for kNN).
+  std::optional<RbfSvmPredictor> svm_predictor;
+
+  void setSvm(const cv::Ptr<cv::ml::SVM>& svm) {
+    model = svm;
+    svm_predictor = RbfSvmPredictor::from(*svm, static_cast<int>(labels.size()));
+  }
 
   std::size_t size() const {
     return featureKindOf(method) == FeatureKind::kRegistrationFitness
@@ -235,6 +243,12 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     // findNearest keeps no state, unlike predict's default path; safe from several threads.
     const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
     knn->findNearest(rows, impl_->config.knn.k, responses, neighbours);
+  } else if (impl_->svm_predictor) {
+    responses.create(rows.rows, 1, CV_32F);
+    const std::vector<int> classes = impl_->svm_predictor->predict(rows);
+    for (int r = 0; r < rows.rows; ++r) {
+      responses.at<float>(r) = static_cast<float>(classes[static_cast<std::size_t>(r)]);
+    }
   } else {
     impl_->model->predict(rows, responses);
   }
@@ -380,7 +394,7 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
       throw std::invalid_argument("no (nu, gamma) of the grid trains a nu-SVM on these objects "
                                   "(nu infeasible for their classes' sizes); lower svm.nu");
     }
-    impl.model = model;
+    impl.setSvm(model);
     training.nu = best_nu;
     training.gamma = std::exp2(best_log2_gamma);
     training.cross_validation = best;
@@ -519,7 +533,7 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
     } else {
       cv::Ptr<cv::ml::SVM> svm = cv::ml::SVM::create();
       svm->read(storage["model"]);
-      impl.model = svm;
+      impl.setSvm(svm);
     }
     if (!impl.model->isTrained() || impl.model->getVarCount() != static_cast<int>(impl.size())) {
       throw fail("its model is missing or takes another number of features");

@@ -1,0 +1,89 @@
+// RbfSvmPredictor against the cv::ml::SVM it reads: the same class for every sample.
+#include <cmath>
+#include <random>
+#include <tuple>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/ml.hpp>
+
+#include "granular_core/supervised/rbf_svm.h"
+
+namespace granular {
+namespace {
+
+// Overlapping Gaussian classes in `variables` dimensions, so that many samples lie near the
+// boundaries, where a different rounding would change an answer.
+void overlappingClasses(int classes, int variables, int count, std::mt19937& random,
+                        cv::Mat& samples, cv::Mat& responses) {
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  // The same distance between class means in any number of dimensions.
+  const float shift = 1.5f / std::sqrt(static_cast<float>(variables));
+  samples.create(count, variables, CV_32F);
+  responses.create(count, 1, CV_32S);
+  for (int r = 0; r < count; ++r) {
+    const int label = r % classes;
+    responses.at<int>(r) = label;
+    for (int v = 0; v < variables; ++v) {
+      samples.at<float>(r, v) =
+          shift * static_cast<float>((label + v) % classes) + noise(random);
+    }
+  }
+}
+
+TEST(RbfSvmPredictorTest, AnswersWhatOpenCvsPredictAnswersForEverySample) {
+  std::mt19937 random(11);
+  // 13 and 7 values: the kernel's sums run four values at a time, plus a tail.
+  for (const auto& [classes, variables, svm_type] :
+       {std::tuple{5, 13, cv::ml::SVM::NU_SVC}, std::tuple{2, 7, cv::ml::SVM::C_SVC},
+        std::tuple{8, 60, cv::ml::SVM::NU_SVC}}) {
+    cv::Mat samples, responses;
+    overlappingClasses(classes, variables, 400, random, samples, responses);
+    cv::Ptr<cv::ml::SVM> svm = cv::ml::SVM::create();
+    svm->setType(svm_type);
+    svm->setKernel(cv::ml::SVM::RBF);
+    svm->setNu(0.3);
+    svm->setGamma(0.7 / variables);
+    ASSERT_TRUE(svm->train(samples, cv::ml::ROW_SAMPLE, responses));
+
+    const std::optional<RbfSvmPredictor> predictor = RbfSvmPredictor::from(*svm, classes);
+    ASSERT_TRUE(predictor.has_value());
+    cv::Mat queries, unused;
+    overlappingClasses(classes, variables, 3001, random, queries, unused);
+    cv::Mat expected;
+    svm->predict(queries, expected);
+    const std::vector<int> answers = predictor->predict(queries);
+    ASSERT_EQ(answers.size(), 3001u);
+    int differ = 0, wrong = 0;
+    for (int r = 0; r < queries.rows; ++r) {
+      differ += answers[static_cast<std::size_t>(r)] != static_cast<int>(expected.at<float>(r));
+      wrong += answers[static_cast<std::size_t>(r)] != unused.at<int>(r);
+    }
+    EXPECT_EQ(differ, 0) << classes << " classes";
+    // The classes overlap: the SVM is often wrong, so the comparison covers boundary cases.
+    EXPECT_GT(wrong, 200) << classes << " classes";
+  }
+}
+
+TEST(RbfSvmPredictorTest, RefusesWhatItDoesNotComputeLikeOpenCv) {
+  std::mt19937 random(5);
+  cv::Mat samples, responses;
+  overlappingClasses(3, 4, 90, random, samples, responses);
+  cv::Ptr<cv::ml::SVM> linear = cv::ml::SVM::create();
+  linear->setType(cv::ml::SVM::C_SVC);
+  linear->setKernel(cv::ml::SVM::LINEAR);
+  ASSERT_TRUE(linear->train(samples, cv::ml::ROW_SAMPLE, responses));
+  EXPECT_FALSE(RbfSvmPredictor::from(*linear, 3).has_value());
+
+  cv::Ptr<cv::ml::SVM> rbf = cv::ml::SVM::create();
+  rbf->setType(cv::ml::SVM::C_SVC);
+  rbf->setKernel(cv::ml::SVM::RBF);
+  ASSERT_TRUE(rbf->train(samples, cv::ml::ROW_SAMPLE, responses));
+  EXPECT_TRUE(RbfSvmPredictor::from(*rbf, 3).has_value());
+  // Told of more classes than it was trained on: it has fewer decision functions.
+  EXPECT_FALSE(RbfSvmPredictor::from(*rbf, 4).has_value());
+  EXPECT_FALSE(RbfSvmPredictor::from(*cv::ml::SVM::create(), 3).has_value());
+}
+
+}  // namespace
+}  // namespace granular

@@ -164,12 +164,18 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
   if (impl_->supervised) {
     const SupervisedClassifier& classifier = *impl_->supervised;
     std::vector<std::size_t> classified;
-    std::vector<std::vector<float>> features;
     for (std::size_t i = 0; i < objects.size(); ++i) {
       if (!objects[i].empty()) {
         classified.push_back(i);
-        features.push_back(classifier.features(objects[i]));
       }
+    }
+    // Each object's features on its own: spread over the frame's threads, as registration is.
+    std::vector<std::vector<float>> features(classified.size());
+    const auto count = static_cast<std::ptrdiff_t>(classified.size());
+#pragma omp parallel for num_threads(impl_->threads) schedule(dynamic, 4)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      features[static_cast<std::size_t>(k)] =
+          classifier.features(objects[classified[static_cast<std::size_t>(k)]]);
     }
     const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
     for (std::size_t k = 0; k < classified.size(); ++k) {

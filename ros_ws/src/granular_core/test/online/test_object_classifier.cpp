@@ -12,6 +12,8 @@
 #include "granular_core/online/object_classifier.h"
 #include "granular_core/runs/classify_registration_run.h"
 #include "granular_core/runs/classify_supervised_run.h"
+#include "granular_core/supervised/object_features.h"
+#include "granular_core/supervised/supervised_classifier.h"
 #include "support/registration_scene.h"
 
 namespace granular {
@@ -47,6 +49,37 @@ TEST_F(ClassifyFolderTest, ObjectClassifierLabelsEveryObjectAndLeavesTinyOnesUnk
   EXPECT_THROW(ObjectClassifier::registration(RegistrationMethod::kIcp, converging(),
                                               root_ / "no_models"),
                std::runtime_error);
+}
+
+// The supervised path computes a frame's features over the node's threads: the same answers.
+TEST_F(ClassifyFolderTest, SupervisedAnswersTheSameOnOneThreadAsOnSeveral) {
+  std::vector<Cloud> objects;
+  std::vector<std::vector<float>> features;
+  std::vector<std::string> labels;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    Cloud& cloud = objects.emplace_back();
+    for (const pcl::PointXYZ& p : objects_[i].points) {
+      cloud.push_back(PointXYZIT(p.x, p.y, p.z, 0, 0.0));
+    }
+    features.push_back(objectFeatures(cloud, FeatureKind::kPointHistograms));
+    labels.push_back(models_[truth_[i]].label);
+  }
+  const fs::path model = root_ / "svm.yml";
+  SupervisedClassifier::train(SupervisedMethod::kSvm, SupervisedConfig(), features, labels)
+      .save(model);
+  objects.push_back(Cloud());  // nothing to classify: unknown
+  const std::vector<ObjectPrediction> one =
+      ObjectClassifier::supervised(model, 1).classify(objects);
+  const std::vector<ObjectPrediction> three =
+      ObjectClassifier::supervised(model, 3).classify(objects);
+  ASSERT_EQ(one.size(), objects.size());
+  ASSERT_EQ(three.size(), objects.size());
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    EXPECT_EQ(one[i].label, labels[i]) << i;
+    EXPECT_EQ(three[i].label, labels[i]) << i;
+  }
+  EXPECT_FALSE(one.back().classified);
+  EXPECT_FALSE(three.back().classified);
 }
 
 // The online classifier registers each object itself and must answer as the offline results do.

@@ -74,11 +74,28 @@ double crossValidate(const cv::Mat& samples, const cv::Mat& responses,
       if (!svm->train(train_samples, cv::ml::ROW_SAMPLE, train_responses) || !svm->isTrained()) {
         continue;
       }
-      cv::Mat predicted;
-      svm->predict(test_samples, predicted);
+      // OpenCV numbers the classes the fold trained on in order: they are the class indices
+      // when every class is in the fold, and RbfSvmPredictor then answers as predict() does.
+      std::vector<int> present(train_responses.begin<int>(), train_responses.end<int>());
+      std::sort(present.begin(), present.end());
+      present.erase(std::unique(present.begin(), present.end()), present.end());
+      const std::optional<RbfSvmPredictor> fast =
+          present.back() + 1 == static_cast<int>(present.size())
+              ? RbfSvmPredictor::from(*svm, static_cast<int>(present.size()))
+              : std::nullopt;
+      std::vector<int> predicted(static_cast<std::size_t>(test_samples.rows));
+      if (fast) {
+        predicted = fast->predict(test_samples);
+      } else {
+        cv::Mat answers;
+        svm->predict(test_samples, answers);
+        for (int r = 0; r < test_samples.rows; ++r) {
+          predicted[static_cast<std::size_t>(r)] =
+              static_cast<int>(std::lround(answers.at<float>(r)));
+        }
+      }
       for (int r = 0; r < test_samples.rows; ++r) {
-        correct += static_cast<int>(std::lround(predicted.at<float>(r))) ==
-                   test_responses.at<int>(r);
+        correct += predicted[static_cast<std::size_t>(r)] == test_responses.at<int>(r);
       }
     } catch (const cv::Exception&) {
       // An infeasible nu for this split: counts as no correct prediction.

@@ -114,8 +114,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
           // As evaluate_segmentation decides: the segment's box, in its object frame.
           const Cloud object =
               cropper->crop(segmentation.segments[s].box, Eigen::Vector3d::Zero());
-          if (options.classifier->predict(options.classifier->features(object)) ==
-              options.segmentation.background.label) {
+          const SupervisedPrediction answer =
+              options.classifier->predictWithScore(options.classifier->features(object));
+          if (calledBackground(answer.label, answer.score, options.segmentation.background)) {
             ++summary.called_background;
             continue;
           }

@@ -168,6 +168,7 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       cropper.emplace(cloud);
     }
     std::vector<std::string> labels(segments.size(), "unknown");
+    std::vector<bool> background(segments.size(), false);
     std::vector<OrientedBox> boxes, kept, truth, visible;
     for (std::size_t s = 0; s < segments.size(); ++s) {
       const OrientedBox& box = frame_boxes[s];
@@ -175,14 +176,17 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       if (options.classifier && (in_view || saved)) {
         // As fit_cuboids decides: on the segment's own box.
         const Cloud object = cropper->crop(segments[s].box, Eigen::Vector3d::Zero());
-        labels[s] = options.classifier->predict(options.classifier->features(object));
+        const SupervisedPrediction answer =
+            options.classifier->predictWithScore(options.classifier->features(object));
+        labels[s] = answer.label;
+        background[s] = calledBackground(answer.label, answer.score, config.background);
       }
       if (!in_view) {
         continue;
       }
       boxes.push_back(box);
       if (options.classifier) {
-        if (labels[s] == config.background.label) {
+        if (background[s]) {
           ++evaluation.called_background;
         } else {
           kept.push_back(box);

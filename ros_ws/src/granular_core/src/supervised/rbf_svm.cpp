@@ -99,7 +99,7 @@ void RbfSvmPredictor::kernel(const float* sample, float* values) const {
   }
 }
 
-void RbfSvmPredictor::vote(const float* const* values, int count, int* classes) const {
+void RbfSvmPredictor::vote(const float* const* values, int count, Answer* answers) const {
   std::vector<int> votes(static_cast<std::size_t>(kRows) * classes_, 0);
   std::size_t d = 0;
   for (int i = 0; i < classes_; ++i) {
@@ -121,13 +121,14 @@ void RbfSvmPredictor::vote(const float* const* values, int count, int* classes) 
   }
   for (int r = 0; r < count; ++r) {
     const int* const mine = &votes[static_cast<std::size_t>(r) * classes_];
-    classes[r] = static_cast<int>(std::max_element(mine, mine + classes_) - mine);  // first of ties
+    const int* const most = std::max_element(mine, mine + classes_);  // the first of ties
+    answers[r] = {static_cast<int>(most - mine), *most};
   }
 }
 
-std::vector<int> RbfSvmPredictor::predict(const cv::Mat& samples) const {
+std::vector<RbfSvmPredictor::Answer> RbfSvmPredictor::predict(const cv::Mat& samples) const {
   CV_Assert(samples.type() == CV_32F && samples.cols == variables_);
-  std::vector<int> classes(static_cast<std::size_t>(samples.rows));
+  std::vector<Answer> answers(static_cast<std::size_t>(samples.rows));
   const int groups = (samples.rows + kRows - 1) / kRows;
   cv::parallel_for_(cv::Range(0, groups), [&](const cv::Range& range) {
     std::vector<float> values(static_cast<std::size_t>(kRows) * supports_);
@@ -139,10 +140,10 @@ std::vector<int> RbfSvmPredictor::predict(const cv::Mat& samples) const {
         rows[r] = &values[static_cast<std::size_t>(r) * supports_];
         kernel(samples.ptr<float>(first + r), &values[static_cast<std::size_t>(r) * supports_]);
       }
-      vote(rows, count, &classes[static_cast<std::size_t>(first)]);
+      vote(rows, count, &answers[static_cast<std::size_t>(first)]);
     }
   });
-  return classes;
+  return answers;
 }
 
 }  // namespace granular

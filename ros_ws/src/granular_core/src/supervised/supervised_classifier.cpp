@@ -85,7 +85,10 @@ double crossValidate(const cv::Mat& samples, const cv::Mat& responses,
               : std::nullopt;
       std::vector<int> predicted(static_cast<std::size_t>(test_samples.rows));
       if (fast) {
-        predicted = fast->predict(test_samples);
+        const std::vector<RbfSvmPredictor::Answer> answers = fast->predict(test_samples);
+        for (std::size_t r = 0; r < answers.size(); ++r) {
+          predicted[r] = answers[r].label;
+        }
       } else {
         cv::Mat answers;
         svm->predict(test_samples, answers);
@@ -256,15 +259,19 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     impl_->prepare(features[r]).copyTo(rows.row(static_cast<int>(r)));
   }
   cv::Mat responses, neighbours;
+  std::vector<double> duels_won;  // the nu-SVM's score, where RbfSvmPredictor answers
   if (impl_->method == SupervisedMethod::kKnn) {
     // findNearest keeps no state, unlike predict's default path; safe from several threads.
     const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
     knn->findNearest(rows, impl_->config.knn.k, responses, neighbours);
   } else if (impl_->svm_predictor) {
     responses.create(rows.rows, 1, CV_32F);
-    const std::vector<int> classes = impl_->svm_predictor->predict(rows);
+    const std::vector<RbfSvmPredictor::Answer> answers = impl_->svm_predictor->predict(rows);
+    const double duels = static_cast<double>(impl_->labels.size() - 1);
     for (int r = 0; r < rows.rows; ++r) {
-      responses.at<float>(r) = static_cast<float>(classes[static_cast<std::size_t>(r)]);
+      const RbfSvmPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
+      responses.at<float>(r) = static_cast<float>(answer.label);
+      duels_won.push_back(answer.votes / duels);
     }
   } else {
     impl_->model->predict(rows, responses);
@@ -275,6 +282,8 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     if (neighbours.cols > 0) {  // kNN: the share of the neighbours that voted for the answer
       score = static_cast<double>(cv::countNonZero(neighbours.row(r) == response)) /
               neighbours.cols;
+    } else if (!duels_won.empty()) {
+      score = duels_won[static_cast<std::size_t>(r)];
     }
     const long index = std::lround(response);
     if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {

@@ -110,6 +110,17 @@ TEST(BackgroundTest, OnlyTheLabelledViewAndRangeAreHarvested) {
   EXPECT_EQ(backgroundSegments(cloud, segments, {}, config), (std::vector<std::size_t>{3}));
 }
 
+TEST(BackgroundTest, OnlyASureEnoughBackgroundAnswerDropsASegment) {
+  BackgroundConfig config;  // min_score 1: the SVM's answer won every duel
+  EXPECT_TRUE(calledBackground("Background", 1.0, config));
+  EXPECT_FALSE(calledBackground("Background", 6.0 / 7.0, config));
+  EXPECT_FALSE(calledBackground("Sedan", 1.0, config));
+  config.min_score = 0.5;
+  EXPECT_TRUE(calledBackground("Background", 6.0 / 7.0, config));
+  config.label = "Clutter";
+  EXPECT_FALSE(calledBackground("Background", 1.0, config));
+}
+
 TEST(BackgroundTest, ValidateNamesTheField) {
   BackgroundConfig config;
   config.label = "";

@@ -52,12 +52,23 @@ TEST(RbfSvmPredictorTest, AnswersWhatOpenCvsPredictAnswersForEverySample) {
     overlappingClasses(classes, variables, 3001, random, queries, unused);
     cv::Mat expected;
     svm->predict(queries, expected);
-    const std::vector<int> answers = predictor->predict(queries);
+    const std::vector<RbfSvmPredictor::Answer> answers = predictor->predict(queries);
     ASSERT_EQ(answers.size(), 3001u);
     int differ = 0, wrong = 0;
+    int unanimous = 0;
     for (int r = 0; r < queries.rows; ++r) {
-      differ += answers[static_cast<std::size_t>(r)] != static_cast<int>(expected.at<float>(r));
-      wrong += answers[static_cast<std::size_t>(r)] != unused.at<int>(r);
+      const RbfSvmPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
+      differ += answer.label != static_cast<int>(expected.at<float>(r));
+      wrong += answer.label != unused.at<int>(r);
+      // The answer wins at least as many duels as any class, and at most all of its own.
+      EXPECT_GE(answer.votes, classes / 2);
+      EXPECT_LE(answer.votes, classes - 1);
+      unanimous += answer.votes == classes - 1;
+    }
+    // Near the boundaries, many answers lose a duel; far from them, they win every one.
+    EXPECT_GT(unanimous, 0);
+    if (classes > 2) {
+      EXPECT_LT(unanimous, queries.rows) << classes << " classes";
     }
     EXPECT_EQ(differ, 0) << classes << " classes";
     // The classes overlap: the SVM is often wrong, so the comparison covers boundary cases.

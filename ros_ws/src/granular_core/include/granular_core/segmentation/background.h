@@ -28,6 +28,11 @@ struct BackgroundConfig {
   /// the labels are complete (KITTI labels the camera's view only: 40).
   double half_field_of_view_deg = 180.0;
   double max_range = 80.0;
+  /// The decision: a segment the classifier calls `label` with at least this score (the
+  /// share of its one-vs-one duels the SVM's answer won, or of kNN's neighbours that voted for
+  /// it) is dropped. 1: only when it is unanimous; a vehicle seen badly is often Background
+  /// by a plurality only (docs/segmentation.md).
+  double min_score = 1.0;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -38,8 +43,15 @@ struct BackgroundConfig {
     visit("min_object_share", self.min_object_share, interval(0, 1, ""));
     visit("half_field_of_view_deg", self.half_field_of_view_deg, interval(0, 180, "deg"));
     visit("max_range", self.max_range, positive("m"));
+    visit("min_score", self.min_score, interval(0, 1, ""));
   }
 };
+
+/// Whether a classifier's answer (`label`, `score`) drops a segment as background.
+inline bool calledBackground(const std::string& label, double score,
+                             const BackgroundConfig& config) {
+  return label == config.label && score >= config.min_score;
+}
 
 /// Throws std::invalid_argument naming the field for a value out of range or an empty label.
 void validate(const BackgroundConfig& config);

@@ -20,17 +20,24 @@ class RbfSvmPredictor {
   /// 0 .. classes - 1 (how SupervisedClassifier trains it): then use svm.predict().
   static std::optional<RbfSvmPredictor> from(const cv::ml::SVM& svm, int classes);
 
-  /// The class index of each row of `samples` (CV_32F, one sample a row, as many columns as
-  /// the SVM's variables), spread over OpenCV's threads as predict() does.
-  std::vector<int> predict(const cv::Mat& samples) const;
+  /// One sample's answer: the class predict() gives, and how many of its one-vs-one duels
+  /// that class won (classes - 1 at most).
+  struct Answer {
+    int label = 0;
+    int votes = 0;
+  };
+
+  /// The answer for each row of `samples` (CV_32F, one sample a row, as many columns as the
+  /// SVM's variables), spread over OpenCV's threads as predict() does.
+  std::vector<Answer> predict(const cv::Mat& samples) const;
 
  private:
   RbfSvmPredictor() = default;
 
   // The kernel of one sample against every support vector, as OpenCV's calc_rbf leaves it.
   void kernel(const float* sample, float* values) const;
-  // The class of each of `count` samples (at most kRows) from their kernel values.
-  void vote(const float* const* values, int count, int* classes) const;
+  // The answer for each of `count` samples (at most kRows) from their kernel values.
+  void vote(const float* const* values, int count, Answer* answers) const;
 
   struct Decision {
     double rho = 0.0;

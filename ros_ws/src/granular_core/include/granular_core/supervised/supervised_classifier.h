@@ -120,8 +120,9 @@ struct FeatureOrigin {
   std::string source;
 };
 
-/// A label and how clearly it won: the share of the k neighbours that voted for it (kNN), or 1
-/// (nu-SVM: OpenCV gives no calibrated probability).
+/// A label and how clearly it won: the share of the k neighbours that voted for it (kNN), or
+/// the share of its one-vs-one duels it won against the other classes (nu-SVM: OpenCV gives
+/// no calibrated probability; 1 for a classifier of two classes, whose single duel decides).
 struct SupervisedPrediction {
   std::string label;
   double score = 1.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -118,6 +119,37 @@ const char* failedSizeGate(const Rectangle& box, const SegmentGates& gates) {
     return "wall";
   }
   return nullptr;
+}
+
+// The wall gate's exception: a long thin segment whose lowest point, piece by piece along
+// it, stands clear of the ground over most of its length (the body between a bus's wheels; a
+// wall, fence or hedge reaches the ground, up to the gap between scan rings, which grows with
+// range as max_bottom's allowance does) and whose top is high (a guard rail's is not).
+bool isVehicleSide(const Cloud& cloud, const std::vector<std::size_t>& indices,
+                   const std::vector<float>& heights, const SegmentShape& shape,
+                   const SegmentGates& gates) {
+  if (shape.top <= gates.side_top) {
+    return false;
+  }
+  const Rectangle& footprint = shape.footprint;
+  const Eigen::Vector2d axis(std::cos(footprint.yaw), std::sin(footprint.yaw));
+  const auto pieces = static_cast<std::size_t>(footprint.length / gates.side_bin) + 1;
+  std::vector<float> lowest(pieces, std::numeric_limits<float>::infinity());
+  for (const std::size_t i : indices) {
+    const double along =
+        (Eigen::Vector2d(cloud[i].x, cloud[i].y) - footprint.centre).dot(axis) +
+        0.5 * footprint.length;
+    const auto piece = static_cast<std::size_t>(
+        std::clamp(along / gates.side_bin, 0.0, static_cast<double>(pieces - 1)));
+    lowest[piece] = std::min(lowest[piece], heights[i]);
+  }
+  const double clearance = gates.side_clearance + gates.max_bottom_per_m * shape.range;
+  std::size_t seen = 0, clear = 0;
+  for (const float low : lowest) {
+    seen += std::isfinite(low);
+    clear += std::isfinite(low) && low > clearance;
+  }
+  return seen > 0 && static_cast<double>(clear) >= gates.side_share * static_cast<double>(seen);
 }
 
 // Spread of the points along their least-variance direction, and that direction's angle from
@@ -417,7 +449,10 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     shape.footprint = minimumAreaRectangle(xy);
     const Rectangle& footprint = shape.footprint;
     if (const char* failed = failedSizeGate(footprint, gates)) {
-      return failed;
+      if (std::strcmp(failed, "wall") != 0 ||
+          !isVehicleSide(cloud, indices, heights, shape, gates)) {
+        return failed;
+      }
     }
     if (wall_direction && footprint.width < gates.wall_width &&
         std::abs(std::remainder(footprint.yaw - *wall_direction, M_PI)) <=

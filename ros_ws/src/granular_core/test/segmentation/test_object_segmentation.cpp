@@ -1,4 +1,5 @@
 // Segmentation of scans without boxes: ground first, range-aware grid, gates, boxes.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -65,6 +66,42 @@ TEST(ObjectSegmentationTest, WallsPolesAndKerbsAreGatedOutAndCounted) {
   EXPECT_EQ(result.rejected.at("wall"), 1u);
   EXPECT_EQ(result.rejected.at("pole"), 1u);
   EXPECT_EQ(result.rejected.at("min_top"), 1u);
+}
+
+// The face turned to the sensor of a panel along x, at `y`, from `bottom` to `top` above the
+// road, reaching down to 0.3 m within 0.5 m of each of `legs` (wheels, posts).
+void addPanel(Cloud& cloud, double y, double length, double bottom, double top,
+              const std::vector<double>& legs) {
+  for (double u = -length / 2; u <= length / 2 + 1e-9; u += 0.05) {
+    const bool leg = std::any_of(legs.begin(), legs.end(),
+                                 [&](double at) { return std::abs(u - at) <= 0.5; });
+    for (double h = leg ? 0.3 : bottom; h <= top + 1e-9; h += 0.05) {
+      cloud.push_back(PointXYZIT(static_cast<float>(u), static_cast<float>(y),
+                                 static_cast<float>(-kSensorHeight + h), 0, 0.0));
+    }
+  }
+}
+
+TEST(ObjectSegmentationTest, ABusSeenFromTheSideIsNoWall) {
+  ObjectSegmentationConfig config;
+  config.walls.max_walls = 0;  // the wall gate alone
+  // A bus's side 8 m away, 11 m long: the body from 0.55 m to 3 m, its wheels to the road.
+  Cloud bus = road();
+  addPanel(bus, 8.0, 11.0, 0.55, 3.0, {-3.5, 3.5});
+  const ObjectSegmentation kept = segmentObjects(bus, roadGround(), config);
+  ASSERT_EQ(kept.segments.size(), 1u);
+  EXPECT_NEAR(kept.segments[0].box.size().x(), 11.0, 0.1);
+  EXPECT_EQ(kept.rejected.count("wall"), 0u);
+  // The same panel standing on the road along its length is a wall ...
+  Cloud wall = road();
+  addPanel(wall, 8.0, 11.0, 0.3, 3.0, {});
+  const ObjectSegmentation gated = segmentObjects(wall, roadGround(), config);
+  EXPECT_TRUE(gated.segments.empty());
+  EXPECT_EQ(gated.rejected.at("wall"), 1u);
+  // ... and a guard rail on posts, raised but low, too.
+  Cloud rail = road();
+  addPanel(rail, 8.0, 11.0, 0.5, 0.8, {-3.5, 0.0, 3.5});
+  EXPECT_EQ(segmentObjects(rail, roadGround(), config).rejected.at("wall"), 1u);
 }
 
 TEST(ObjectSegmentationTest, ACarParkedAgainstAWallIsFoundWhenTheWallIsPeeledOff) {

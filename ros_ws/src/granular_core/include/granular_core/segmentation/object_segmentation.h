@@ -28,6 +28,13 @@ struct SegmentGates {
   /// m: longer than wall_length and thinner than wall_width is a wall, fence or hedge line.
   double wall_length = 7.0;
   double wall_width = 0.6;
+  /// ... unless it is a bus's or truck's side: its lowest point higher than side_clearance over
+  /// at least side_share of its length (the body between the wheels; a wall, fence or hedge
+  /// stands on the ground) and its top higher than side_top (a guard rail is lower).
+  double side_clearance = 0.25;  ///< m above the ground
+  double side_share = 0.5;       ///< of its length, in side_bin pieces
+  double side_top = 2.0;         ///< m above the ground
+  double side_bin = 0.5;         ///< m along it
   double min_top = 0.5;          ///< m: lower segments are kerbs, verges, debris
   /// m, and m per metre of range: a standing object reaches the ground; the allowance grows
   /// with the gap between scan rings.
@@ -55,6 +62,10 @@ struct SegmentGates {
     visit("max_area", self.max_area, positive("m^2"));
     visit("wall_length", self.wall_length, positive("m"));
     visit("wall_width", self.wall_width, nonNegative("m"));
+    visit("side_clearance", self.side_clearance, nonNegative("m"));
+    visit("side_share", self.side_share, interval(0, 1, ""));
+    visit("side_top", self.side_top, nonNegative("m"));
+    visit("side_bin", self.side_bin, positive("m"));
     visit("min_top", self.min_top, nonNegative("m"));
     visit("max_bottom", self.max_bottom, nonNegative("m"));
     visit("max_bottom_per_m", self.max_bottom_per_m, nonNegative("m/m"));

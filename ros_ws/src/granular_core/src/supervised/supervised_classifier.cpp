@@ -18,6 +18,7 @@
 #include <opencv2/ml.hpp>
 
 #include "granular_core/dataset/atomic_file.h"
+#include "granular_core/supervised/knn_predictor.h"
 #include "granular_core/supervised/rbf_svm.h"
 
 namespace granular {
@@ -195,8 +196,9 @@ struct SupervisedClassifier::Impl {
   std::vector<float> offset;
   std::vector<float> scale;
   cv::Ptr<cv::ml::StatModel> model;
-  /// The SVM's answers, computed faster than model->predict() and the same (none for kNN).
+  /// The SVM's and kNN's answers, computed faster than OpenCV's and the same.
   std::optional<RbfSvmPredictor> svm_predictor;
+  std::optional<KnnPredictor> knn_predictor;
 
   void setSvm(const cv::Ptr<cv::ml::SVM>& svm) {
     model = svm;
@@ -259,8 +261,19 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     impl_->prepare(features[r]).copyTo(rows.row(static_cast<int>(r)));
   }
   cv::Mat responses, neighbours;
-  std::vector<double> duels_won;  // the nu-SVM's score, where RbfSvmPredictor answers
-  if (impl_->method == SupervisedMethod::kKnn) {
+  // The score where the fast predictors answer: kNN's share of the neighbours, the nu-SVM's
+  // share of the duels its answer won.
+  std::vector<double> shares;
+  if (impl_->knn_predictor) {
+    responses.create(rows.rows, 1, CV_32F);
+    const std::vector<KnnPredictor::Answer> answers = impl_->knn_predictor->predict(rows);
+    for (int r = 0; r < rows.rows; ++r) {
+      const KnnPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
+      responses.at<float>(r) = answer.response;
+      // The share of the neighbours that voted for the answer, as below.
+      shares.push_back(static_cast<double>(answer.votes) / impl_->knn_predictor->neighbours());
+    }
+  } else if (impl_->method == SupervisedMethod::kKnn) {
     // findNearest keeps no state, unlike predict's default path; safe from several threads.
     const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
     knn->findNearest(rows, impl_->config.knn.k, responses, neighbours);
@@ -271,7 +284,7 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     for (int r = 0; r < rows.rows; ++r) {
       const RbfSvmPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
       responses.at<float>(r) = static_cast<float>(answer.label);
-      duels_won.push_back(answer.votes / duels);
+      shares.push_back(answer.votes / duels);
     }
   } else {
     impl_->model->predict(rows, responses);
@@ -282,8 +295,8 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
     if (neighbours.cols > 0) {  // kNN: the share of the neighbours that voted for the answer
       score = static_cast<double>(cv::countNonZero(neighbours.row(r) == response)) /
               neighbours.cols;
-    } else if (!duels_won.empty()) {
-      score = duels_won[static_cast<std::size_t>(r)];
+    } else if (!shares.empty()) {
+      score = shares[static_cast<std::size_t>(r)];
     }
     const long index = std::lround(response);
     if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {
@@ -361,6 +374,9 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
     knn->setIsClassifier(true);
     knn->train(samples, cv::ml::ROW_SAMPLE, responses);
     impl.model = knn;
+    cv::Mat float_responses;
+    responses.convertTo(float_responses, CV_32F);
+    impl.knn_predictor.emplace(samples, float_responses, config.knn.k);
   } else {
     const SvmConfig& svm = config.svm;
     const std::vector<int> fold = stratifiedFolds(responses, svm.folds, svm.seed);
@@ -556,6 +572,13 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
       cv::Ptr<cv::ml::KNearest> knn = cv::ml::KNearest::create();
       knn->read(storage["model"]);
       impl.model = knn;
+      cv::Mat samples, responses;
+      storage["model"]["samples"] >> samples;
+      storage["model"]["responses"] >> responses;
+      if (!samples.empty() && samples.type() == CV_32F && responses.type() == CV_32F &&
+          static_cast<int>(responses.total()) == samples.rows) {
+        impl.knn_predictor.emplace(samples, responses, impl.config.knn.k);
+      }
     } else {
       cv::Ptr<cv::ml::SVM> svm = cv::ml::SVM::create();
       svm->read(storage["model"]);

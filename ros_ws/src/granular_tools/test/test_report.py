@@ -1,8 +1,11 @@
 """make_report: numbers against hand-computed values, pictures, and bad input."""
 import json
+import os
+import signal
 
 import pytest
 
+from granular_tools import output
 from granular_tools.evaluation import report
 
 SEDAN_HATCHBACK = [  # (true label, criterion 1, criterion 2)
@@ -81,3 +84,26 @@ def test_a_folder_that_is_not_a_report_is_not_replaced(tmp_path, capsys):
     assert report.main(["--results", str(tmp_path / "results"),
                         "--out", str(tmp_path / "precious")]) == 1
     assert (tmp_path / "precious" / "notes.txt").exists()
+
+
+def _record_handlers(folder):
+    handlers = {signal.Signals(n).name: signal.getsignal(n) == signal.SIG_DFL
+                for n in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
+    (folder / f"{os.getpid()}.json").write_text(json.dumps(handlers))
+
+
+def test_picture_workers_die_on_a_stop_signal_instead_of_running_the_tools_handler(tmp_path):
+    # The tool's handlers raise on a signal; forked workers that kept them could hang the pool
+    # when it terminates them. Each worker must have the default (die at once) instead.
+    if (os.cpu_count() or 1) < 2:
+        pytest.skip("one core: the pictures are drawn without workers")
+    previous = {n: signal.getsignal(n) for n in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
+    output.stop_on_signals()
+    try:
+        report.draw_pictures([(_record_handlers, (tmp_path,)) for _ in range(6)])
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    records = [json.loads(p.read_text()) for p in tmp_path.glob("*.json")]
+    assert records and all(all(r.values()) for r in records), records
+    assert str(os.getpid()) + ".json" not in {p.name for p in tmp_path.glob("*.json")}

@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import pathlib
 import re
+import signal
 
 import matplotlib
 
@@ -242,6 +243,14 @@ def _draw(picture):
     function(*arguments)
 
 
+def _worker_signals():
+    """A worker dies at once on a stop signal. Forked, it would inherit the tool's handlers
+    (output.stop_on_signals), which raise inside the pool's own locks: a worker stopped that way
+    hung on a lock for good, and the tool with it, waiting to join it."""
+    for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(signum, signal.SIG_DFL)
+
+
 def draw_pictures(pictures):
     """Draw each (function, arguments) picture, in worker processes on every core: matplotlib
     spends most of a report's time laying out tick labels (the demo's 55 pictures took 27 s on
@@ -251,8 +260,15 @@ def draw_pictures(pictures):
         for picture in pictures:
             _draw(picture)
         return
-    with multiprocessing.get_context("fork").Pool(workers) as pool:
+    pool = multiprocessing.get_context("fork").Pool(workers, initializer=_worker_signals)
+    try:
         pool.map(_draw, pictures, chunksize=1)
+        pool.close()  # the workers finish and exit; terminate() only on an error or a stop
+    except BaseException:
+        pool.terminate()
+        raise
+    finally:
+        pool.join()
 
 
 def make_report(results_folder, out, model_pictures=None, feature_objects=None, objects=None):

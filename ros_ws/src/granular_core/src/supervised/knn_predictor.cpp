@@ -7,27 +7,19 @@
 namespace granular {
 namespace {
 
-constexpr int kLanes = 8;  // training samples whose distances run side by side
+constexpr int kLanes = LaneBlocks::kLanes;
 
 }  // namespace
 
 KnnPredictor::KnnPredictor(const cv::Mat& samples, const cv::Mat& responses, int k)
-    : k_(k), variables_(samples.cols), count_(samples.rows) {
+    : k_(k) {
   if (samples.type() != CV_32F || samples.empty() || responses.type() != CV_32F ||
       static_cast<int>(responses.total()) != samples.rows || k < 1) {
     throw std::invalid_argument("KnnPredictor: needs float training rows, one float response "
                                 "each, and k >= 1");
   }
-  const int blocks = (count_ + kLanes - 1) / kLanes;
-  blocks_.assign(static_cast<std::size_t>(blocks) * variables_ * kLanes, 0.0f);
-  for (int s = 0; s < count_; ++s) {
-    float* const block =
-        &blocks_[static_cast<std::size_t>(s / kLanes) * variables_ * kLanes];
-    for (int v = 0; v < variables_; ++v) {
-      block[v * kLanes + s % kLanes] = samples.at<float>(s, v);
-    }
-  }
-  const cv::Mat column = responses.reshape(1, count_);
+  samples_ = LaneBlocks(samples);
+  const cv::Mat column = responses.reshape(1, samples.rows);
   responses_.assign(column.begin<float>(), column.end<float>());
 }
 
@@ -39,10 +31,9 @@ KnnPredictor::Answer KnnPredictor::answer(const float* query, std::vector<float>
   const int k = neighbours();
   distances.assign(static_cast<std::size_t>(k), FLT_MAX);
   nearest.assign(static_cast<std::size_t>(k), 0.0f);
-  const int n = variables_;
-  const int blocks = (count_ + kLanes - 1) / kLanes;
-  for (int b = 0; b < blocks; ++b) {
-    const float* const block = &blocks_[static_cast<std::size_t>(b) * n * kLanes];
+  const int n = samples_.width();
+  for (int b = 0; b < samples_.blocks(); ++b) {
+    const float* const block = samples_.block(b);
     float sum[kLanes] = {};
     int v = 0;
     for (; v + 4 <= n; v += 4) {
@@ -71,8 +62,7 @@ KnnPredictor::Answer KnnPredictor::answer(const float* query, std::vector<float>
     if (!nearer) {
       continue;
     }
-    const int lanes = std::min(kLanes, count_ - b * kLanes);
-    for (int l = 0; l < lanes; ++l) {
+    for (int l = 0; l < samples_.lanesIn(b); ++l) {
       const float distance = sum[l];
       if (distance >= distances[static_cast<std::size_t>(k - 1)]) {
         continue;
@@ -107,7 +97,7 @@ KnnPredictor::Answer KnnPredictor::answer(const float* query, std::vector<float>
 }
 
 std::vector<KnnPredictor::Answer> KnnPredictor::predict(const cv::Mat& queries) const {
-  CV_Assert(queries.type() == CV_32F && queries.cols == variables_);
+  CV_Assert(queries.type() == CV_32F && queries.cols == samples_.width());
   std::vector<Answer> answers(static_cast<std::size_t>(queries.rows));
   cv::parallel_for_(cv::Range(0, queries.rows), [&](const cv::Range& range) {
     std::vector<float> distances, nearest;

@@ -6,9 +6,8 @@
 namespace granular {
 namespace {
 
-// Support vectors whose kernel sums run side by side, and samples whose decision sums do.
-constexpr int kLanes = 8;
-constexpr int kRows = 4;
+constexpr int kLanes = LaneBlocks::kLanes;
+constexpr int kRows = 4;  // samples whose decision sums run side by side
 
 }  // namespace
 
@@ -25,17 +24,7 @@ std::optional<RbfSvmPredictor> RbfSvmPredictor::from(const cv::ml::SVM& svm, int
   if (vectors.type() != CV_32F || vectors.cols != svm.getVarCount() || vectors.rows < 1) {
     return std::nullopt;
   }
-  predictor.variables_ = vectors.cols;
-  predictor.supports_ = vectors.rows;
-  const int blocks = (vectors.rows + kLanes - 1) / kLanes;
-  predictor.blocks_.assign(static_cast<std::size_t>(blocks) * vectors.cols * kLanes, 0.0f);
-  for (int s = 0; s < vectors.rows; ++s) {
-    float* const block = &predictor.blocks_[static_cast<std::size_t>(s / kLanes) *
-                                            vectors.cols * kLanes];
-    for (int v = 0; v < vectors.cols; ++v) {
-      block[v * kLanes + s % kLanes] = vectors.at<float>(s, v);
-    }
-  }
+  predictor.supports_ = LaneBlocks(vectors);
   try {
     for (int d = 0; d < classes * (classes - 1) / 2; ++d) {
       cv::Mat alpha, support;
@@ -63,10 +52,9 @@ void RbfSvmPredictor::kernel(const float* sample, float* values) const {
   // OpenCV's calc_rbf: per support vector, the float differences squared in double, summed two
   // at a time, times -gamma, to float; then cv::exp over the row and the clamp its calc() ends
   // with. This file is compiled without floating-point contraction, as OpenCV is.
-  const int n = variables_;
-  const int blocks = (supports_ + kLanes - 1) / kLanes;
-  for (int b = 0; b < blocks; ++b) {
-    const float* const block = &blocks_[static_cast<std::size_t>(b) * n * kLanes];
+  const int n = supports_.width();
+  for (int b = 0; b < supports_.blocks(); ++b) {
+    const float* const block = supports_.block(b);
     double sum[kLanes] = {};
     int v = 0;
     for (; v + 4 <= n; v += 4) {
@@ -86,15 +74,14 @@ void RbfSvmPredictor::kernel(const float* sample, float* values) const {
         sum[l] += t0 * t0;
       }
     }
-    const int lanes = std::min(kLanes, supports_ - b * kLanes);
-    for (int l = 0; l < lanes; ++l) {
+    for (int l = 0; l < supports_.lanesIn(b); ++l) {
       values[b * kLanes + l] = static_cast<float>(sum[l] * minus_gamma_);
     }
   }
-  cv::Mat row(1, supports_, CV_32F, values);
+  cv::Mat row(1, supports_.rows(), CV_32F, values);
   cv::exp(row, row);
   const float most = static_cast<float>(FLT_MAX * 1e-3);
-  for (int s = 0; s < supports_; ++s) {
+  for (int s = 0; s < supports_.rows(); ++s) {
     values[s] = std::min(values[s], most);
   }
 }
@@ -127,18 +114,19 @@ void RbfSvmPredictor::vote(const float* const* values, int count, Answer* answer
 }
 
 std::vector<RbfSvmPredictor::Answer> RbfSvmPredictor::predict(const cv::Mat& samples) const {
-  CV_Assert(samples.type() == CV_32F && samples.cols == variables_);
+  CV_Assert(samples.type() == CV_32F && samples.cols == supports_.width());
   std::vector<Answer> answers(static_cast<std::size_t>(samples.rows));
   const int groups = (samples.rows + kRows - 1) / kRows;
   cv::parallel_for_(cv::Range(0, groups), [&](const cv::Range& range) {
-    std::vector<float> values(static_cast<std::size_t>(kRows) * supports_);
+    const auto stride = static_cast<std::size_t>(supports_.rows());
+    std::vector<float> values(kRows * stride);
     const float* rows[kRows];
     for (int g = range.start; g < range.end; ++g) {
       const int first = g * kRows;
       const int count = std::min(kRows, samples.rows - first);
       for (int r = 0; r < count; ++r) {
-        rows[r] = &values[static_cast<std::size_t>(r) * supports_];
-        kernel(samples.ptr<float>(first + r), &values[static_cast<std::size_t>(r) * supports_]);
+        rows[r] = &values[static_cast<std::size_t>(r) * stride];
+        kernel(samples.ptr<float>(first + r), &values[static_cast<std::size_t>(r) * stride]);
       }
       vote(rows, count, &answers[static_cast<std::size_t>(first)]);
     }

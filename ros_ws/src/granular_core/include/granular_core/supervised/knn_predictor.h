@@ -5,6 +5,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "granular_core/supervised/lane_blocks.h"
+
 namespace granular {
 
 /// The answers of cv::ml::KNearest::findNearest (brute force, a classifier), bit for bit: the
@@ -30,17 +32,14 @@ class KnnPredictor {
   std::vector<Answer> predict(const cv::Mat& queries) const;
 
   /// The neighbours that vote: k, or every training sample when there are fewer.
-  int neighbours() const { return std::min(k_, count_); }
+  int neighbours() const { return std::min(k_, samples_.rows()); }
 
  private:
   Answer answer(const float* query, std::vector<float>& distances,
                 std::vector<float>& nearest) const;
 
   int k_ = 1;
-  int variables_ = 0;
-  int count_ = 0;
-  // Training rows in blocks of kLanes, value v of lane l at [block][v][l], padded with zeros.
-  std::vector<float> blocks_;
+  LaneBlocks samples_;  // the training rows
   std::vector<float> responses_;
 };
 

@@ -6,6 +6,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
 
+#include "granular_core/supervised/lane_blocks.h"
+
 namespace granular {
 
 /// The class answers of a trained one-vs-one cv::ml::SVM with an RBF kernel (C or nu
@@ -46,12 +48,8 @@ class RbfSvmPredictor {
   };
 
   int classes_ = 0;
-  int variables_ = 0;
-  int supports_ = 0;
   double minus_gamma_ = 0.0;
-  // Support vectors in blocks of kLanes, value v of lane l at [block][v][l], the last block
-  // padded with zeros.
-  std::vector<float> blocks_;
+  LaneBlocks supports_;  // the support vectors
   std::vector<Decision> decisions_;  // (0,1), (0,2) ... (1,2) ..., as OpenCV orders them
 };
 

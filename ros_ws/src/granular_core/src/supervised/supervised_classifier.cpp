@@ -195,14 +195,16 @@ struct SupervisedClassifier::Impl {
   bool standardize = false;
   std::vector<float> offset;
   std::vector<float> scale;
-  cv::Ptr<cv::ml::StatModel> model;
-  /// The SVM's and kNN's answers, computed faster than OpenCV's and the same.
-  std::optional<RbfSvmPredictor> svm_predictor;
+  cv::Ptr<cv::ml::StatModel> model;  ///< what the file keeps
+  /// What answers: OpenCV's answers, computed faster; one of the two, by method.
   std::optional<KnnPredictor> knn_predictor;
+  std::optional<RbfSvmPredictor> svm_predictor;
 
-  void setSvm(const cv::Ptr<cv::ml::SVM>& svm) {
+  /// The model and its predictor; false when it is no one-vs-one RBF SVM of the labels.
+  bool setSvm(const cv::Ptr<cv::ml::SVM>& svm) {
     model = svm;
     svm_predictor = RbfSvmPredictor::from(*svm, static_cast<int>(labels.size()));
+    return svm_predictor.has_value();
   }
 
   std::size_t size() const {
@@ -260,50 +262,25 @@ std::vector<SupervisedPrediction> SupervisedClassifier::predictWithScores(
   for (std::size_t r = 0; r < features.size(); ++r) {
     impl_->prepare(features[r]).copyTo(rows.row(static_cast<int>(r)));
   }
-  cv::Mat responses, neighbours;
-  // The score where the fast predictors answer: kNN's share of the neighbours, the nu-SVM's
-  // share of the duels its answer won.
-  std::vector<double> shares;
-  if (impl_->knn_predictor) {
-    responses.create(rows.rows, 1, CV_32F);
-    const std::vector<KnnPredictor::Answer> answers = impl_->knn_predictor->predict(rows);
-    for (int r = 0; r < rows.rows; ++r) {
-      const KnnPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
-      responses.at<float>(r) = answer.response;
-      // The share of the neighbours that voted for the answer, as below.
-      shares.push_back(static_cast<double>(answer.votes) / impl_->knn_predictor->neighbours());
-    }
-  } else if (impl_->method == SupervisedMethod::kKnn) {
-    // findNearest keeps no state, unlike predict's default path; safe from several threads.
-    const cv::Ptr<cv::ml::KNearest> knn = impl_->model.dynamicCast<cv::ml::KNearest>();
-    knn->findNearest(rows, impl_->config.knn.k, responses, neighbours);
-  } else if (impl_->svm_predictor) {
-    responses.create(rows.rows, 1, CV_32F);
-    const std::vector<RbfSvmPredictor::Answer> answers = impl_->svm_predictor->predict(rows);
-    const double duels = static_cast<double>(impl_->labels.size() - 1);
-    for (int r = 0; r < rows.rows; ++r) {
-      const RbfSvmPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
-      responses.at<float>(r) = static_cast<float>(answer.label);
-      shares.push_back(answer.votes / duels);
-    }
-  } else {
-    impl_->model->predict(rows, responses);
-  }
-  for (int r = 0; r < rows.rows; ++r) {
-    const float response = responses.at<float>(r);
-    double score = 1.0;
-    if (neighbours.cols > 0) {  // kNN: the share of the neighbours that voted for the answer
-      score = static_cast<double>(cv::countNonZero(neighbours.row(r) == response)) /
-              neighbours.cols;
-    } else if (!shares.empty()) {
-      score = shares[static_cast<std::size_t>(r)];
-    }
-    const long index = std::lround(response);
+  const auto add = [&](long index, double score) {
     if (index < 0 || index >= static_cast<long>(impl_->labels.size())) {
       throw std::runtime_error("the classifier answered an unknown class " +
                                std::to_string(index));
     }
     predictions.push_back({impl_->labels[static_cast<std::size_t>(index)], score});
+  };
+  if (impl_->knn_predictor) {
+    // The score: the share of the neighbours that voted for the answer.
+    const double neighbours = impl_->knn_predictor->neighbours();
+    for (const KnnPredictor::Answer& answer : impl_->knn_predictor->predict(rows)) {
+      add(std::lround(answer.response), answer.votes / neighbours);
+    }
+  } else {
+    // The score: the share of its one-vs-one duels the answer won.
+    const double duels = static_cast<double>(impl_->labels.size() - 1);
+    for (const RbfSvmPredictor::Answer& answer : impl_->svm_predictor->predict(rows)) {
+      add(answer.label, answer.votes / duels);
+    }
   }
   return predictions;
 }
@@ -436,7 +413,9 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
       throw std::invalid_argument("no (nu, gamma) of the grid trains a nu-SVM on these objects "
                                   "(nu infeasible for their classes' sizes); lower svm.nu");
     }
-    impl.setSvm(model);
+    if (!impl.setSvm(model)) {
+      throw std::logic_error("a trained nu-SVM that RbfSvmPredictor does not take");
+    }
     training.nu = best_nu;
     training.gamma = std::exp2(best_log2_gamma);
     training.cross_validation = best;
@@ -572,20 +551,23 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
       cv::Ptr<cv::ml::KNearest> knn = cv::ml::KNearest::create();
       knn->read(storage["model"]);
       impl.model = knn;
-      cv::Mat samples, responses;
-      storage["model"]["samples"] >> samples;
-      storage["model"]["responses"] >> responses;
-      if (!samples.empty() && samples.type() == CV_32F && responses.type() == CV_32F &&
-          static_cast<int>(responses.total()) == samples.rows) {
-        impl.knn_predictor.emplace(samples, responses, impl.config.knn.k);
-      }
     } else {
       cv::Ptr<cv::ml::SVM> svm = cv::ml::SVM::create();
       svm->read(storage["model"]);
-      impl.setSvm(svm);
+      impl.model = svm;
     }
     if (!impl.model->isTrained() || impl.model->getVarCount() != static_cast<int>(impl.size())) {
       throw fail("its model is missing or takes another number of features");
+    }
+    if (impl.method == SupervisedMethod::kKnn) {
+      // The training rows and responses KNearest wrote (it has no getter for them).
+      cv::Mat samples, responses;
+      storage["model"]["samples"] >> samples;
+      storage["model"]["responses"] >> responses;
+      impl.knn_predictor.emplace(samples, responses, impl.config.knn.k);
+    } else if (!impl.setSvm(impl.model.dynamicCast<cv::ml::SVM>())) {
+      throw fail("its SVM is not a one-vs-one RBF classifier of its " +
+                 std::to_string(impl.labels.size()) + " labels");
     }
   } catch (const cv::Exception&) {
     // OpenCV's own text names a parser function, which tells a user nothing.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <cstdint>
 #include <limits>
 #include <numeric>
@@ -109,16 +108,15 @@ struct SegmentShape {
   double thickness = 0.0;     ///< m, the spread along that direction
 };
 
-// The size gates on the footprint, or nullptr.
-const char* failedSizeGate(const Rectangle& box, const SegmentGates& gates) {
-  if (box.length > gates.max_length || box.width > gates.max_width ||
-      box.length * box.width > gates.max_area) {
-    return "max_size";
-  }
-  if (box.length > gates.wall_length && box.width < gates.wall_width) {
-    return "wall";
-  }
-  return nullptr;
+// Whether the footprint is larger than any vehicle's.
+bool tooLarge(const Rectangle& box, const SegmentGates& gates) {
+  return box.length > gates.max_length || box.width > gates.max_width ||
+         box.length * box.width > gates.max_area;
+}
+
+// Whether the footprint is as long and thin as a wall's (isVehicleSide may still keep it).
+bool wallShaped(const Rectangle& box, const SegmentGates& gates) {
+  return box.length > gates.wall_length && box.width < gates.wall_width;
 }
 
 // The wall gate's exception: a long thin segment whose lowest point, piece by piece along
@@ -448,11 +446,11 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     }
     shape.footprint = minimumAreaRectangle(xy);
     const Rectangle& footprint = shape.footprint;
-    if (const char* failed = failedSizeGate(footprint, gates)) {
-      if (std::strcmp(failed, "wall") != 0 ||
-          !isVehicleSide(cloud, indices, heights, shape, gates)) {
-        return failed;
-      }
+    if (tooLarge(footprint, gates)) {
+      return "max_size";
+    }
+    if (wallShaped(footprint, gates) && !isVehicleSide(cloud, indices, heights, shape, gates)) {
+      return "wall";
     }
     if (wall_direction && footprint.width < gates.wall_width &&
         std::abs(std::remainder(footprint.yaw - *wall_direction, M_PI)) <=

@@ -71,5 +71,4 @@ std::vector<LabelledSegment> labelSegments(const Cloud& cloud,
                                            const std::vector<OrientedBox>& truth,
                                            const BackgroundConfig& config = {});
 
-
 }  // namespace granular

@@ -116,7 +116,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
               cropper->crop(segmentation.segments[s].box, Eigen::Vector3d::Zero());
           const SupervisedPrediction answer =
               options.classifier->predictWithScore(options.classifier->features(object));
-          if (calledBackground(answer.label, answer.score, options.segmentation.background)) {
+          if (calledBackground(answer.label, answer.score, object.size(),
+                               segmentation.segments[s].box.centre().head<2>().norm(),
+                               options.segmentation.background)) {
             ++summary.called_background;
             continue;
           }

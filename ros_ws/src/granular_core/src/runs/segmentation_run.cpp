@@ -179,7 +179,9 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
         const SupervisedPrediction answer =
             options.classifier->predictWithScore(options.classifier->features(object));
         labels[s] = answer.label;
-        background[s] = calledBackground(answer.label, answer.score, config.background);
+        background[s] = calledBackground(answer.label, answer.score, object.size(),
+                                         segments[s].box.centre().head<2>().norm(),
+                                         config.background);
       }
       if (!in_view) {
         continue;

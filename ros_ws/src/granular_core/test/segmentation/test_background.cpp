@@ -112,13 +112,22 @@ TEST(BackgroundTest, OnlyTheLabelledViewAndRangeAreHarvested) {
 
 TEST(BackgroundTest, OnlyASureEnoughBackgroundAnswerDropsASegment) {
   BackgroundConfig config;  // min_score 1: the SVM's answer won every duel
-  EXPECT_TRUE(calledBackground("Background", 1.0, config));
-  EXPECT_FALSE(calledBackground("Background", 6.0 / 7.0, config));
-  EXPECT_FALSE(calledBackground("Sedan", 1.0, config));
+  EXPECT_TRUE(calledBackground("Background", 1.0, 50, 10.0, config));
+  EXPECT_FALSE(calledBackground("Background", 6.0 / 7.0, 50, 10.0, config));
+  EXPECT_FALSE(calledBackground("Sedan", 1.0, 50, 10.0, config));
   config.min_score = 0.5;
-  EXPECT_TRUE(calledBackground("Background", 6.0 / 7.0, config));
+  EXPECT_TRUE(calledBackground("Background", 6.0 / 7.0, 50, 10.0, config));
   config.label = "Clutter";
-  EXPECT_FALSE(calledBackground("Background", 1.0, config));
+  EXPECT_FALSE(calledBackground("Background", 1.0, 50, 10.0, config));
+}
+
+TEST(BackgroundTest, TheDecisionAbstainsOnlyOnFarSparseSegments) {
+  BackgroundConfig config;  // fewer than 20 points beyond 30 m: kept
+  EXPECT_FALSE(calledBackground("Background", 1.0, 19, 40.0, config));
+  EXPECT_TRUE(calledBackground("Background", 1.0, 20, 40.0, config));
+  EXPECT_TRUE(calledBackground("Background", 1.0, 19, 25.0, config));  // near: a small thing
+  config.abstain_points = 0;
+  EXPECT_TRUE(calledBackground("Background", 1.0, 3, 40.0, config));
 }
 
 TEST(BackgroundTest, ValidateNamesTheField) {

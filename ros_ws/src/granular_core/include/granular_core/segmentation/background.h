@@ -33,6 +33,13 @@ struct BackgroundConfig {
   /// it) is dropped. 1: only when it is unanimous; a vehicle seen badly is often Background
   /// by a plurality only (docs/segmentation.md).
   double min_score = 1.0;
+  /// The decision abstains on a segment beyond `abstain_range` m with fewer than
+  /// `abstain_points` points: a far car of a few rings and a piece of clutter give the same
+  /// point-feature histograms (each point's 20 nearest are the whole object), and such cars
+  /// were called Background unanimously. Nearer, a segment that small is a small thing, and the
+  /// answer stands (docs/segmentation.md).
+  std::size_t abstain_points = 20;
+  double abstain_range = 30.0;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -44,13 +51,17 @@ struct BackgroundConfig {
     visit("half_field_of_view_deg", self.half_field_of_view_deg, interval(0, 180, "deg"));
     visit("max_range", self.max_range, positive("m"));
     visit("min_score", self.min_score, interval(0, 1, ""));
+    visit("abstain_points", self.abstain_points, nonNegative("points"));
+    visit("abstain_range", self.abstain_range, nonNegative("m"));
   }
 };
 
-/// Whether a classifier's answer (`label`, `score`) drops a segment as background.
-inline bool calledBackground(const std::string& label, double score,
-                             const BackgroundConfig& config) {
-  return label == config.label && score >= config.min_score;
+/// Whether a classifier's answer (`label`, `score`) on a segment of `points` points at
+/// `range` m from the sensor drops the segment as background.
+inline bool calledBackground(const std::string& label, double score, std::size_t points,
+                             double range, const BackgroundConfig& config) {
+  const bool abstains = range > config.abstain_range && points < config.abstain_points;
+  return !abstains && label == config.label && score >= config.min_score;
 }
 
 /// Throws std::invalid_argument naming the field for a value out of range or an empty label.

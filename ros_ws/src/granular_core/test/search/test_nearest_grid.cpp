@@ -49,5 +49,28 @@ TEST(NearestSearchTest, GridAndTreeFindTheExactNearestDistance) {
   EXPECT_GT(resolved, 2000);  // the grid settles most queries near the cloud
 }
 
+TEST(NearestSearchTest, CellsWiderThanTheBoundSettleEveryBoundedQueryExactly) {
+  // As NearestTree builds its grid for a correspondence bound (ICP-NL's 0.1 m, here 0.5 m):
+  // cells of 1.25 bounds, one ring; the ball of the bound never reaches past that ring.
+  std::mt19937 random(11);
+  const ModelCloud surface = boxSurface({4.5, 1.8, 1.5}, 3000, random);
+  const std::vector<float> points = xyzOf(surface);
+  const float bound = 0.25f;  // squared: 0.5 m
+  const NearestGrid dense(points.data(), surface.size(), 1);
+  const NearestGrid wide(points.data(), surface.size(), 1, 1.25 * 0.5);
+  std::uniform_real_distribution<float> near(-3.0f, 3.0f);
+  int dense_resolved = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const float query[3] = {near(random), near(random), near(random)};
+    const float expected = bruteNearest(points, query, bound);
+    const NearestGrid::Result cell = wide.nearest(query, bound);
+    ASSERT_TRUE(cell.resolved) << i;
+    EXPECT_EQ(cell.found, expected < bound);
+    EXPECT_EQ(cell.distance, expected);  // bit for bit
+    dense_resolved += dense.nearest(query, bound).resolved ? 1 : 0;
+  }
+  EXPECT_LT(dense_resolved, 4000);  // cells sized by density leave some to the kd-tree
+}
+
 }  // namespace
 }  // namespace granular

@@ -37,7 +37,8 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
                      const IndicesConstPtr& indices = IndicesConstPtr()) override;
 
   /// Single-neighbour queries beyond `max_distance` (m) then report no neighbour (an infinite
-  /// distance), which PCL's correspondence estimation discards as it would the real one.
+  /// distance), which PCL's correspondence estimation discards as it would the real one. The
+  /// grid is rebuilt with cells wider than the bound, so call it before any query.
   void setCorrespondenceBound(double max_distance);
 
   int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,

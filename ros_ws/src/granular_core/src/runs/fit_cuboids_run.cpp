@@ -16,6 +16,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/cuboids/segment_views.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "background_decision.h"
 #include "run_helpers.h"
 
 namespace granular {
@@ -110,18 +111,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       segmentation = segmenter.segment(cloud);
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
-        if (options.classifier != nullptr) {
-          // As evaluate_segmentation decides: the segment's box, in its object frame.
-          const Cloud object =
-              cropper->crop(segmentation.segments[s].box, Eigen::Vector3d::Zero());
-          const SupervisedPrediction answer =
-              options.classifier->predictWithScore(options.classifier->features(object));
-          if (calledBackground(answer.label, answer.score, object.size(),
-                               segmentation.segments[s].box.centre().head<2>().norm(),
-                               options.segmentation.background)) {
-            ++summary.called_background;
-            continue;
-          }
+        if (options.classifier != nullptr &&
+            runs::decideBackground(*options.classifier, *cropper, segmentation.segments[s].box,
+                                   options.segmentation.background)
+                .dropped) {
+          ++summary.called_background;
+          continue;
         }
         Input input;
         input.id = static_cast<std::int64_t>(s);

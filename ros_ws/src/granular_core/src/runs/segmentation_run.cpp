@@ -16,6 +16,7 @@
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "background_decision.h"
 #include "run_helpers.h"
 
 namespace granular {
@@ -174,14 +175,11 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       const OrientedBox& box = frame_boxes[s];
       const bool in_view = counted(box.centre(), options);
       if (options.classifier && (in_view || saved)) {
-        // As fit_cuboids decides: on the segment's own box.
-        const Cloud object = cropper->crop(segments[s].box, Eigen::Vector3d::Zero());
-        const SupervisedPrediction answer =
-            options.classifier->predictWithScore(options.classifier->features(object));
-        labels[s] = answer.label;
-        background[s] = calledBackground(answer.label, answer.score, object.size(),
-                                         segments[s].box.centre().head<2>().norm(),
-                                         config.background);
+        const runs::BackgroundDecision decision =
+            runs::decideBackground(*options.classifier, *cropper, segments[s].box,
+                                   config.background);
+        labels[s] = decision.label;
+        background[s] = decision.dropped;
       }
       if (!in_view) {
         continue;

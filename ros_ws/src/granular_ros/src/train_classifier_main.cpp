@@ -45,6 +45,10 @@ const char* const kUsage =
     "  --out MODEL.yml   model file to write (replaced)\n"
     "  --config FILE     YAML file with knn, svm and histograms (the repository's\n"
     "                    config/supervised.yaml documents them)\n"
+    "  --search-objects N\n"
+    "                    svm methods: cross-validate the grid search on a stratified sample\n"
+    "                    of N objects (0: all), then train the chosen nu and gamma on all;\n"
+    "                    overrides svm.search_objects of --config\n"
     "  --threads N       threads for the features (default: every core)\n"
     "  --help            print this help and exit\n"
     "\n"
@@ -58,6 +62,7 @@ struct Options {
   std::string out;
   std::optional<std::string> config_file;
   int threads = 0;
+  std::optional<std::size_t> search_objects;
 };
 
 }  // namespace
@@ -74,6 +79,11 @@ int main(int argc, char** argv) {
       .required("--method", options.method)
       .required("--out", options.out)
       .value("--config", options.config_file)
+      .custom("--search-objects",
+              [&options](granular_ros::OptionReader& reader) {
+                options.search_objects =
+                    granular_ros::parseNumber<std::size_t>("--search-objects", reader.value());
+              })
       .threads("--threads", options.threads);
   const auto configure = [&] {
     const auto parsed = granular::supervisedMethodFromName(options.method);
@@ -97,6 +107,9 @@ int main(int argc, char** argv) {
       registration.assign(files.begin(), files.end());
     }
     config = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
+    if (options.search_objects) {
+      config.svm.search_objects = *options.search_objects;
+    }
   };
   return tool.run(argc, argv, configure, [&] {
     const granular::TrainingRun run =

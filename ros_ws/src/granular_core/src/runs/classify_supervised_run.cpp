@@ -358,8 +358,10 @@ void TrainingRun::report(std::ostream& out) const {
   out << line;
   if (classifier.method() != SupervisedMethod::kKnn) {
     std::snprintf(line, sizeof(line),
-                  "; nu %.3g, gamma %.3g (%zu pairs tried, cross-validated accuracy %.3f)",
-                  summary.nu, summary.gamma, summary.grid_points, summary.cross_validation);
+                  "; nu %.3g, gamma %.3g (%zu pairs tried, cross-validated accuracy %.3f on "
+                  "%zu objects)",
+                  summary.nu, summary.gamma, summary.grid_points, summary.cross_validation,
+                  summary.search_objects);
     out << line;
   }
   out << '\n';
@@ -394,7 +396,8 @@ void writeSupervisedJson(const fs::path& file, const SupervisedRun& run,
         {"nu", training.nu},
         {"gamma", training.gamma},
         {"cross_validation", training.cross_validation},
-        {"grid_points", training.grid_points}}},
+        {"grid_points", training.grid_points},
+        {"search_objects", training.search_objects}}},
       {"objects", objects},
       {"accuracy", labelled > 0 ? static_cast<double>(correct) / labelled : 0.0},
       {"warnings", run.warnings}};

@@ -131,6 +131,35 @@ std::vector<int> stratifiedFolds(const cv::Mat& responses, std::size_t folds, st
   return fold;
 }
 
+// Rows of a stratified random sample of about `count` of the samples: each label's samples
+// shuffled, and the first share of them in proportion kept (at least `per_label_floor`, or all
+// of a smaller label), in their original order.
+std::vector<int> stratifiedSample(const cv::Mat& responses, std::size_t count,
+                                  std::size_t per_label_floor, std::uint32_t seed) {
+  std::mt19937 random(seed);
+  int labels = 0;
+  for (int r = 0; r < responses.rows; ++r) {
+    labels = std::max(labels, responses.at<int>(r) + 1);
+  }
+  std::vector<int> rows;
+  const double share = static_cast<double>(count) / responses.rows;
+  for (int label = 0; label < labels; ++label) {
+    std::vector<int> members;
+    for (int r = 0; r < responses.rows; ++r) {
+      if (responses.at<int>(r) == label) {
+        members.push_back(r);
+      }
+    }
+    std::shuffle(members.begin(), members.end(), random);
+    const std::size_t keep = std::min(
+        members.size(), std::max(per_label_floor, static_cast<std::size_t>(std::lround(
+                                                      share * static_cast<double>(members.size())))));
+    rows.insert(rows.end(), members.begin(), members.begin() + static_cast<std::ptrdiff_t>(keep));
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
 void writeHistogramConfig(cv::FileStorage& storage, const PointHistogramConfig& h) {
   storage << "histograms" << "{"
           << "sample_points" << static_cast<int>(h.sample_points)
@@ -356,7 +385,18 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
     impl.knn_predictor.emplace(samples, float_responses, config.knn.k);
   } else {
     const SvmConfig& svm = config.svm;
-    const std::vector<int> fold = stratifiedFolds(responses, svm.folds, svm.seed);
+    // The grid search's objects: all, or a stratified sample of them.
+    cv::Mat search_samples = samples, search_responses = responses;
+    if (svm.search_objects > 0 && svm.search_objects < static_cast<std::size_t>(samples.rows)) {
+      search_samples = cv::Mat();
+      search_responses = cv::Mat();
+      for (const int r : stratifiedSample(responses, svm.search_objects, svm.folds, svm.seed)) {
+        search_samples.push_back(samples.row(r));
+        search_responses.push_back(responses.row(r));
+      }
+    }
+    training.search_objects = static_cast<std::size_t>(search_samples.rows);
+    const std::vector<int> fold = stratifiedFolds(search_responses, svm.folds, svm.seed);
     double best_nu = svm.nu.front(), best_log2_gamma = svm.log2_gamma_min, best = -1.0;
     const auto search = [&](const std::vector<double>& nus, const std::vector<double>& log2s) {
       std::vector<std::pair<double, double>> grid;  // (nu, log2 gamma)
@@ -372,7 +412,8 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
 #pragma omp parallel for schedule(dynamic, 1)
       for (std::size_t i = 0; i < grid.size(); ++i) {
         try {
-          accuracies[i] = crossValidate(samples, responses, fold, svm.folds, grid[i].first,
+          accuracies[i] = crossValidate(search_samples, search_responses, fold, svm.folds,
+                                        grid[i].first,
                                         std::exp2(grid[i].second));
         } catch (...) {
 #pragma omp critical(granular_svm_grid_error)
@@ -458,7 +499,8 @@ void SupervisedClassifier::save(const std::filesystem::path& file) const {
     storage << "training" << "{" << "objects" << static_cast<int>(impl.training.objects)
             << "seconds" << impl.training.seconds << "nu" << impl.training.nu << "gamma"
             << impl.training.gamma << "cross_validation" << impl.training.cross_validation
-            << "grid_points" << static_cast<int>(impl.training.grid_points) << "}";
+            << "grid_points" << static_cast<int>(impl.training.grid_points)
+            << "search_objects" << static_cast<int>(impl.training.search_objects) << "}";
     storage << "model" << "{";
     impl.model->write(storage);
     storage << "}";
@@ -543,6 +585,10 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
     impl.training.gamma = t["gamma"];
     impl.training.cross_validation = t["cross_validation"];
     impl.training.grid_points = static_cast<std::size_t>(static_cast<int>(t["grid_points"]));
+    // Absent from models saved before the search could use a sample: all objects.
+    impl.training.search_objects =
+        t["search_objects"].empty() ? impl.training.objects
+                                    : static_cast<std::size_t>(static_cast<int>(t["search_objects"]));
     if (impl.offset.size() != impl.size() || impl.scale.size() != impl.size() ||
         impl.labels.size() < 2) {
       throw fail("its standardisation or labels are incomplete");

@@ -112,6 +112,40 @@ TEST_F(TwoClassesTest, TheSvmGridSearchChoosesTheSameOnOneThreadAsOnSeveral) {
   EXPECT_EQ(summaries[0].grid_points, 58u);  // 5 nu x 8 gamma, then 2 refinements of 3 x 3
 }
 
+TEST_F(TwoClassesTest, TheSvmGridSearchOnASampleKeepsEveryClassAndTrainsOnAll) {
+  SupervisedConfig config;
+  std::vector<std::vector<float>> features;
+  for (const Cloud& cloud : train_) {
+    features.push_back(objectFeatures(cloud, FeatureKind::kPointHistograms, config.histograms));
+  }
+  config.svm.search_objects = 20;
+  TrainingSummary summary;
+  const SupervisedClassifier classifier = SupervisedClassifier::train(
+      SupervisedMethod::kSvm, config, features, train_labels_, &summary);
+  EXPECT_EQ(summary.search_objects, 20u);  // 10 of each class's 20
+  EXPECT_EQ(summary.objects, 40u);
+  for (std::size_t i = 0; i < test_.size(); ++i) {
+    EXPECT_EQ(classifier.predict(classifier.features(test_[i])), test_labels_[i]) << i;
+  }
+
+  // A class of 3 among 23: its share of a 6-object sample rounds to 1, but each fold needs
+  // one of it, so it keeps 2 (folds); the Cars keep their share, 5.
+  std::vector<std::vector<float>> unbalanced;
+  std::vector<std::string> labels;
+  std::size_t vans = 0;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    if (train_labels_[i] == "Car" || vans++ < 3) {
+      unbalanced.push_back(features[i]);
+      labels.push_back(train_labels_[i]);
+    }
+  }
+  config.svm.search_objects = 6;
+  config.svm.nu = {0.05, 0.1};
+  SupervisedClassifier::train(SupervisedMethod::kSvm, config, unbalanced, labels, &summary);
+  EXPECT_EQ(summary.search_objects, 7u);
+  EXPECT_EQ(summary.objects, 23u);
+}
+
 TEST_F(TwoClassesTest, BadInputIsRefusedWithAClearMessage) {
   SupervisedConfig config;
   std::vector<std::vector<float>> features;

@@ -103,11 +103,34 @@ def frames_stage(bag, folder, config, overwrite):
     print(f"frames: {stats.summary(config.slop)}", flush=True)
 
 
+_executables = {}  # (package, executable) -> its path, or None where rosrun must find it
+
+
+def without_rosrun(command):
+    """`rosrun PACKAGE EXECUTABLE ARGS...` as `PATH ARGS...`, PATH being the executable catkin
+    installed for PACKAGE (the one rosrun runs), looked up once per executable: rosrun's own
+    look-up costs about half a second a call, and an evaluation runs some fifty tools. Any
+    other command, or one catkin does not know, is returned as it is."""
+    if len(command) < 3 or command[0] != "rosrun":
+        return command
+    key = (command[1], command[2])
+    if key not in _executables:
+        try:
+            from catkin.find_in_workspaces import find_in_workspaces
+            found = find_in_workspaces(search_dirs=["libexec"], project=key[0], path=key[1],
+                                       first_match_only=True)
+        except ImportError:
+            found = []
+        _executables[key] = (found[0] if found and os.path.isfile(found[0])
+                             and os.access(found[0], os.X_OK) else None)
+    return [_executables[key], *command[3:]] if _executables[key] else command
+
+
 def run_tool(command, stage):
     """Run one tool as a stage: its messages reach the user; a failure raises StageError with
     its exit status. A stop signal is passed on, so that the tool removes its partial output,
     and then stops this run too."""
-    process = subprocess.Popen(command)
+    process = subprocess.Popen(without_rosrun(command))
     try:
         status = process.wait()
     except Interrupted as stop:

@@ -56,6 +56,19 @@ build_workspace_with_colcon() {
   fi
 }
 
+# `run_tool PACKAGE EXECUTABLE ARGS...` runs what `rosrun` would, without rosrun's look-up
+# (about half a second a call): the executable catkin_make put in the devel space, or rosrun
+# where there is none. Not for `&`: the tool would run in a subshell that `kill` does not reach.
+run_tool() {
+  local executable="${WORKSPACE}/devel/lib/$1/$2"
+  if [ -f "${executable}" ] && [ -x "${executable}" ]; then
+    shift 2
+    "${executable}" "$@"
+  else
+    rosrun "$@"
+  fi
+}
+
 use_workspace() {
   set +u
   # shellcheck disable=SC1091

@@ -29,8 +29,8 @@ std::string usage() {
           "of lowest fitness. Convergence is PCL's convergence state (transformation or error\n"
           "change below its epsilon), not hasConverged(), which is also true when a run merely\n"
           "reaches its iteration limit. Writes FILE.json: per object the fitness, convergence\n"
-          "state, iterations and final transform against every model, and the three\n"
-          "predictions. Needs no roscore.\n"
+          "state and iterations against every model (and the final transform, with\n"
+          "--transforms), and the three predictions. Needs no roscore.\n"
           "\n"
           "options:\n"
           "  --models FOLDER   class models (<Class>.pcd)\n"
@@ -49,6 +49,8 @@ std::string usage() {
        << granular_ros::kDefaultPreset << "\n"
           "  --config FILE     YAML file with presets (the repository's\n"
           "                    config/classification.yaml documents every parameter)\n"
+          "  --transforms      also write each pair's final transform (16 numbers, row-major;\n"
+          "                    the file grows about threefold)\n"
           "  --threads N       threads (default: every core)\n"
           "  --help            print this help and exit\n"
           "\n"
@@ -66,6 +68,7 @@ struct Options {
   std::string preset = granular_ros::kDefaultPreset;
   std::optional<std::string> config_file;
   int threads = 0;
+  bool transforms = false;
 };
 
 }  // namespace
@@ -82,6 +85,7 @@ int main(int argc, char** argv) {
       .required("--out", options.out)
       .value("--preset", options.preset)
       .value("--config", options.config_file)
+      .flag("--transforms", options.transforms)
       .threads("--threads", options.threads);
   const auto configure = [&] {
     const auto parsed = granular::registrationMethodFromName(options.method);
@@ -106,7 +110,9 @@ int main(int argc, char** argv) {
     };
     const granular::ClassificationRun run =
         granular::classifyFolder(options.models, options.objects, method, config, run_options);
-    granular::writeClassificationJson(options.out, run);
+    granular::ClassificationJsonOptions json_options;
+    json_options.transforms = options.transforms;
+    granular::writeClassificationJson(options.out, run, json_options);
     run.report(std::cout);
   });
 }

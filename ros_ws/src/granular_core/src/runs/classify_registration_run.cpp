@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <set>
 #include <sstream>
@@ -22,12 +23,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json pairJson(const PairResult& result) {
+nlohmann::json pairJson(const PairResult& result, bool with_transform) {
   nlohmann::json json = {{"converged", result.converged()},
                          {"state", registrationStateName(result.state)},
                          {"iterations", result.iterations}};
   const std::optional<double> fitness = result.reportedFitness();
   json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
+  if (!with_transform) {
+    return json;
+  }
   if (result.ran()) {
     nlohmann::json transform = nlohmann::json::array();
     for (int row = 0; row < 4; ++row) {
@@ -131,12 +135,27 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
          ") are classified without a true label");
   }
 
+  // Read on the registration's threads: thousands of small files, each parsed on its own.
+  // A file that cannot be read stops the run, the first such in the folder's order named.
   std::vector<ModelCloud> clouds(files.size());
+  std::vector<std::exception_ptr> read_errors(files.size());
+#pragma omp parallel for schedule(dynamic, 16) num_threads(registrationThreads(options.registration))
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    try {
+      clouds[i] = readModelPcd(files[i]);
+    } catch (...) {
+      read_errors[i] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& error : read_errors) {
+    if (error) {
+      std::rethrow_exception(error);
+    }
+  }
   run.objects.resize(files.size());
   std::size_t points = 0;
   std::size_t below = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
-    clouds[i] = readModelPcd(files[i]);
     ObjectRecord& record = run.objects[i];
     record.file = files[i].filename().string();
     record.true_label = objectClass(files[i]);
@@ -172,12 +191,13 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
   return run;
 }
 
-void writeClassificationJson(const fs::path& file, const ClassificationRun& run) {
+void writeClassificationJson(const fs::path& file, const ClassificationRun& run,
+                             const ClassificationJsonOptions& options) {
   nlohmann::json objects = nlohmann::json::array();
   for (const ObjectRecord& object : run.objects) {
     nlohmann::json per_model = nlohmann::json::object();
     for (std::size_t m = 0; m < object.per_model.size(); ++m) {
-      per_model[run.models.at(m)] = pairJson(object.per_model[m]);
+      per_model[run.models.at(m)] = pairJson(object.per_model[m], options.transforms);
     }
     nlohmann::json predictions = nlohmann::json::object();
     for (int criterion = 1; criterion <= 3; ++criterion) {

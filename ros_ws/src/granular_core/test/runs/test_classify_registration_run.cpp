@@ -32,10 +32,25 @@ TEST_F(ClassifyFolderTest, ClassifiesEveryObjectAndWritesItsRecord) {
   EXPECT_EQ(json["objects"].size(), objects_.size());
   const nlohmann::json& first = json["objects"][0];
   EXPECT_EQ(first["true_label"], first["predictions"]["criterion2"]);
-  EXPECT_EQ(first["per_model"]["Long"]["transform"].size(), 16u);
+  EXPECT_FALSE(first["per_model"]["Long"].contains("transform"));  // only when asked
   EXPECT_TRUE(first["per_model"]["Tall"].contains("fitness"));
   EXPECT_EQ(json["accuracy"]["criterion2"]["accuracy"], 1.0);
   EXPECT_EQ(json["missing"]["criterion2"], 0);
+
+  // Asked for, each pair's transform: the object moved onto the model it belongs to stays
+  // where it is (the views are cut from the models in place), so near the identity.
+  ClassificationJsonOptions with_transforms;
+  with_transforms.transforms = true;
+  writeClassificationJson(root_ / "icp_transforms.json", run, with_transforms);
+  std::ifstream again(root_ / "icp_transforms.json");
+  const nlohmann::json full = nlohmann::json::parse(again);
+  const nlohmann::json& record = full["objects"][0];
+  const nlohmann::json& transform = record["per_model"][record["true_label"].get<std::string>()]["transform"];
+  ASSERT_EQ(transform.size(), 16u);
+  for (int k = 0; k < 16; ++k) {
+    EXPECT_NEAR(transform[k].get<double>(), k % 5 == 0 ? 1.0 : 0.0, 0.05) << k;
+  }
+  EXPECT_EQ(full["objects"][0]["per_model"]["Tall"]["fitness"], first["per_model"]["Tall"]["fitness"]);
 }
 
 TEST_F(ClassifyFolderTest, AMissingModelIsAWarningAndItsObjectsCountAsWrong) {
@@ -62,6 +77,25 @@ TEST_F(ClassifyFolderTest, BadFoldersAndFramesAreErrors) {
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("Long.pcd"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("box-centre frame"), std::string::npos);
+  }
+}
+
+TEST_F(ClassifyFolderTest, AnUnreadableObjectIsAnErrorNamingTheFirstInTheFolder) {
+  // Objects are read on several threads; the error names the first bad file in name order.
+  for (const char* name : {"Tall-900-1.pcd", "Long-900-1.pcd"}) {
+    std::ofstream(root_ / "objects" / name) << "not a PCD\n";
+  }
+  RegisterOptions threads;
+  threads.threads = 4;
+  ClassifyFolderOptions options;
+  options.registration = threads;
+  try {
+    classifyFolder(root_ / "models", root_ / "objects", RegistrationMethod::kIcp, converging(),
+                   options);
+    FAIL() << "an unreadable object was accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("Long-900-1.pcd"), std::string::npos)
+        << error.what();
   }
 }
 

@@ -72,18 +72,26 @@ ClassificationRun classifyFolder(const std::filesystem::path& models,
                                  const RegistrationClassifierConfig& config,
                                  const ClassifyFolderOptions& options = {});
 
+/// What writeClassificationJson writes beyond the fitness, state and predictions.
+struct ClassificationJsonOptions {
+  /// Each pair's final transform: 16 of the 21 numbers a pair writes, so about two thirds of
+  /// the file and of the time to write it (0.27 s for the demo's 2,916 objects x 7 models).
+  bool transforms = false;
+};
+
 /// Writes `run` as JSON to `file`, under a temporary name in the same folder renamed to `file`
 /// at the end:
 ///   {"method", "preset", "parameters": {...}, "models": [...], "seconds", "threads",
 ///    "objects": [{"file", "true_label", "points", "points_used",
 ///                 "per_model": {"<Class>": {"fitness", "converged", "state", "iterations",
-///                                          "transform": [16 numbers, row-major]}},
+///                                          "transform": [16 numbers, row-major] (when asked)}},
 ///                 "predictions": {"criterion1": "<Class>"|null, "criterion2", "criterion3"}}],
 ///    "missing": {"criterion1": n, ...},
 ///    "accuracy": {"criterion1": {"predicted", "labelled", "correct", "accuracy"}, ...},
 ///    "warnings": [...]}
 /// A registration that did not run has fitness and transform null; true_label is null when the
 /// name has none. Throws std::runtime_error naming the file on failure.
-void writeClassificationJson(const std::filesystem::path& file, const ClassificationRun& run);
+void writeClassificationJson(const std::filesystem::path& file, const ClassificationRun& run,
+                             const ClassificationJsonOptions& options = {});
 
 }  // namespace granular

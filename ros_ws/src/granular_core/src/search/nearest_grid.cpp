@@ -18,7 +18,7 @@ constexpr double kPointsPerCellVolume = 0.125;
 
 }  // namespace
 
-NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings, double min_cell)
+NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
     : max_rings_(std::max(0, max_rings)) {
   if (count == 0) {
     cell_start_.assign(1, 0);
@@ -40,7 +40,7 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings, dou
     longest = std::max(longest, static_cast<double>(high[axis] - low[axis]));
   }
   double cell = std::cbrt(volume * kPointsPerCellVolume / static_cast<double>(count));
-  cell = std::max({cell, min_cell, cbrt(volume / kMaxCells), longest / 1.0e4, 1.0e-4});
+  cell = std::max({cell, cbrt(volume / kMaxCells), longest / 1.0e4, 1.0e-4});
   cell_ = static_cast<float>(cell);
   for (int axis = 0; axis < 3; ++axis) {
     origin_[axis] = low[axis];

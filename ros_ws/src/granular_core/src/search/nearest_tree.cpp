@@ -11,11 +11,6 @@ namespace {
 // Rings of grid cells a query searches before it asks the kd-tree: one settles the queries on
 // and near the model's surface, which are most of them.
 constexpr int kGridRings = 1;
-// With a correspondence bound, grid cells are at least this many times the bound, so that a
-// query's ball of the bound lies within the first ring of cells around its own; a ball that
-// reaches past them sends the query to the kd-tree. Cells sized by density alone are about
-// 7 cm on the demo's models, less than ICP-NL's 0.1 m.
-constexpr double kCellsPerBound = 1.25;
 
 }  // namespace
 
@@ -41,6 +36,7 @@ void NearestTree::setInputCloud(const PointCloudConstPtr& cloud,
     }
   }
   grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings);
+  buildBoundedGrid();
   tree_ = std::make_unique<NearestPoints>(points_.data(), mapping_.size());
 }
 
@@ -53,8 +49,14 @@ void NearestTree::setCorrespondenceBound(double max_distance) {
     bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
   }
   correspondence_bound_ = std::nextafter(bound, std::numeric_limits<float>::infinity());
-  grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings,
-                                        kCellsPerBound * max_distance);
+  buildBoundedGrid();
+}
+
+void NearestTree::buildBoundedGrid() {
+  bounded_ = std::isfinite(correspondence_bound_) && correspondence_bound_ > 0.0f
+                 ? std::make_unique<BoundedGrid>(points_.data(), mapping_.size(),
+                                                 correspondence_bound_)
+                 : nullptr;
 }
 
 int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
@@ -64,7 +66,8 @@ int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices&
                                                               k_sqr_distances);
   }
   const float query[3] = {point.x, point.y, point.z};
-  const NearestGrid::Result nearest = nearestWithin(query, correspondence_bound_);
+  const NearestGrid::Result nearest =
+      bounded_ ? bounded_->nearest(query) : nearestWithin(query, correspondence_bound_);
   k_indices.assign(1, nearest.found ? mapping_[nearest.index] : 0);
   k_sqr_distances.assign(
       1, nearest.found ? nearest.distance : std::numeric_limits<float>::infinity());

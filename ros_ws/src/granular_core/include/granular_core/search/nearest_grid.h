@@ -29,9 +29,8 @@ class NearestGrid {
   };
 
   /// Indexes `count` points given as x y z floats (all finite). `max_rings`: how many rings of
-  /// cells around the query's own cell a query may search. `min_cell` (m): cells are at least
-  /// this wide (they are sized by the points' density otherwise).
-  NearestGrid(const float* xyz, std::size_t count, int max_rings = 3, double min_cell = 0.0);
+  /// cells around the query's own cell a query may search.
+  NearestGrid(const float* xyz, std::size_t count, int max_rings = 3);
 
   /// The nearest point whose squared distance to `query` is below `bound` (squared, m^2).
   /// Thread-safe.

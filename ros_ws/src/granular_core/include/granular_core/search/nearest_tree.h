@@ -8,15 +8,17 @@
 #include <pcl/search/kdtree.h>
 
 #include "granular_core/point_types.h"
+#include "granular_core/search/bounded_grid.h"
 #include "granular_core/search/nearest_grid.h"
 #include "granular_core/search/nearest_points.h"
 
 namespace granular {
 
 /// The nearest-point search of a fixed class model, shared read-only by all threads. It
-/// answers ICP's single-neighbour queries from a NearestGrid of the model and, for the queries
-/// its rings cannot settle, from a NearestPoints kd-tree; and the fitness score from the
-/// kd-tree, four object points at a time. Every distance is the one PCL's KdTreeFLANN gives,
+/// answers ICP's single-neighbour queries from a BoundedGrid of the model when they have a
+/// correspondence bound, otherwise from a NearestGrid and, for the queries its rings cannot
+/// settle, from a NearestPoints kd-tree; and the fitness score from the kd-tree, four object
+/// points at a time. Every distance is the one PCL's KdTreeFLANN gives,
 /// bit for bit, without its cost per query: PCL allocates and enters an OpenMP parallel region
 /// (FLANN's knnSearch) for each point, which for small objects costs more than the search.
 /// Two searches are also bounded, without changing their answers:
@@ -37,8 +39,8 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
                      const IndicesConstPtr& indices = IndicesConstPtr()) override;
 
   /// Single-neighbour queries beyond `max_distance` (m) then report no neighbour (an infinite
-  /// distance), which PCL's correspondence estimation discards as it would the real one. The
-  /// grid is rebuilt with cells wider than the bound, so call it before any query.
+  /// distance), which PCL's correspondence estimation discards as it would the real one; a
+  /// BoundedGrid of the model is built for them, so call it before any query.
   void setCorrespondenceBound(double max_distance);
 
   int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
@@ -54,9 +56,13 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   // the grid cannot settle it, bounded by what the grid found.
   NearestGrid::Result nearestWithin(const float query[3], float bound) const;
 
+  // The BoundedGrid of the points for the correspondence bound, or none without a bound.
+  void buildBoundedGrid();
+
   std::vector<float> points_;
   pcl::Indices mapping_;
   std::unique_ptr<NearestGrid> grid_;
+  std::unique_ptr<BoundedGrid> bounded_;  ///< with a correspondence bound
   std::unique_ptr<NearestPoints> tree_;
   float correspondence_bound_ = std::numeric_limits<float>::infinity();
 };

@@ -1,0 +1,130 @@
+#include "granular_core/search/bounded_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "granular_core/search/grid_cells.h"
+#include "granular_core/search/nearest_points.h"
+
+namespace granular {
+namespace {
+
+// At most this many cells, whatever the cloud's extent (they grow wider instead).
+constexpr double kMaxCells = 4.0e6;
+// Slack (m) for the rounding of cell coordinates: a list holds the points within the bound
+// plus this of its cell, so a query that rounds into a neighbouring cell still finds them.
+constexpr double kSlack = 1.0e-4;
+
+}  // namespace
+
+BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bound_(bound) {
+  if (count == 0) {
+    list_start_.assign(1, 0);
+    return;
+  }
+  const double reach = std::sqrt(static_cast<double>(bound)) + kSlack;
+  double low[3] = {xyz[0], xyz[1], xyz[2]};
+  double high[3] = {xyz[0], xyz[1], xyz[2]};
+  for (std::size_t i = 1; i < count; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::min(low[axis], static_cast<double>(xyz[3 * i + axis]));
+      high[axis] = std::max(high[axis], static_cast<double>(xyz[3 * i + axis]));
+    }
+  }
+  // The grid covers the points and the bound around them: a query beyond has no point near.
+  double volume = 1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] -= reach;
+    high[axis] += reach;
+    volume *= high[axis] - low[axis];
+  }
+  cell_ = static_cast<float>(std::max(reach, std::cbrt(volume / kMaxCells)));
+  for (int axis = 0; axis < 3; ++axis) {
+    origin_[axis] = static_cast<float>(low[axis]);
+    size_[axis] = static_cast<int>((high[axis] - low[axis]) / cell_) + 1;
+  }
+
+  // Each point goes into the list of every cell it lies within `reach` of, per axis.
+  const auto cellsNear = [&](const float* point, int first[3], int last[3]) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const double offset = static_cast<double>(point[axis]) - origin_[axis];
+      first[axis] = std::max(0, static_cast<int>(std::floor((offset - reach) / cell_)));
+      last[axis] = std::min(size_[axis] - 1, static_cast<int>(std::floor((offset + reach) / cell_)));
+    }
+  };
+  const std::size_t cells = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
+  std::vector<std::size_t> cell_of;  // per entry; entries in point order, so ties keep it
+  std::vector<std::uint32_t> point_of;
+  for (std::size_t i = 0; i < count; ++i) {
+    int first[3], last[3];
+    cellsNear(&xyz[3 * i], first, last);
+    forEachCell(first, last, size_, [&](std::size_t cell) {
+      cell_of.push_back(cell);
+      point_of.push_back(static_cast<std::uint32_t>(i));
+    });
+  }
+  CellLists lists = sortIntoCells(cell_of, cells);
+  list_start_ = std::move(lists.start);
+  // Each list nearest its cell's centre first, so that a query can stop early (nearest()).
+  std::vector<float> from_centre(lists.order.size());
+  for (std::size_t c = 0; c < cells; ++c) {
+    const float centre[3] = {
+        origin_[0] + cell_ * (static_cast<float>(c % size_[0]) + 0.5f),
+        origin_[1] + cell_ * (static_cast<float>(c / size_[0] % size_[1]) + 0.5f),
+        origin_[2] + cell_ * (static_cast<float>(c / size_[0] / size_[1]) + 0.5f)};
+    const auto first = lists.order.begin() + list_start_[c];
+    const auto last = lists.order.begin() + list_start_[c + 1];
+    for (auto entry = first; entry != last; ++entry) {
+      from_centre[*entry] = std::sqrt(flannSquaredDistance(centre, &xyz[3 * point_of[*entry]]));
+    }
+    std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) {
+      return from_centre[a] < from_centre[b];
+    });
+  }
+  indices_.resize(lists.order.size());
+  points_.resize(3 * lists.order.size());
+  from_centre_.resize(lists.order.size());
+  for (std::size_t slot = 0; slot < lists.order.size(); ++slot) {
+    const std::uint32_t point = point_of[lists.order[slot]];
+    indices_[slot] = point;
+    from_centre_[slot] = from_centre[lists.order[slot]];
+    std::copy(&xyz[3 * point], &xyz[3 * point] + 3, &points_[3 * slot]);
+  }
+}
+
+NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
+  NearestGrid::Result result;
+  result.resolved = true;
+  result.distance = bound_;
+  std::size_t cell = 0;
+  float centre[3];
+  for (int axis = 2; axis >= 0; --axis) {
+    const float offset = std::floor((query[axis] - origin_[axis]) / cell_);
+    if (!(offset >= 0.0f && offset < static_cast<float>(size_[axis]))) {
+      return result;  // beyond the grid (or not finite): no point within the bound
+    }
+    cell = cell * static_cast<std::size_t>(size_[axis]) + static_cast<std::size_t>(offset);
+    centre[axis] = origin_[axis] + cell_ * (offset + 0.5f);
+  }
+  // An entry lies at least its distance from the centre less the query's from it: once that
+  // exceeds the best distance (widened for rounding), no later entry can be nearer.
+  const float query_from_centre = std::sqrt(flannSquaredDistance(centre, query));
+  const auto stopAt = [&](float distance) {
+    return query_from_centre + std::sqrt(distance) * 1.0001f + 1.0e-5f;
+  };
+  float stop = stopAt(result.distance);
+  for (std::uint32_t entry = list_start_[cell];
+       entry < list_start_[cell + 1] && from_centre_[entry] <= stop; ++entry) {
+    const float distance = flannSquaredDistance(query, &points_[3 * entry]);
+    if (distance < result.distance ||
+        (distance == result.distance && result.found && indices_[entry] < result.index)) {
+      result.distance = distance;
+      result.index = indices_[entry];
+      result.found = true;
+      stop = stopAt(distance);
+    }
+  }
+  return result;
+}
+
+}  // namespace granular

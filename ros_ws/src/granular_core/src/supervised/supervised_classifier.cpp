@@ -108,22 +108,30 @@ double crossValidate(const cv::Mat& samples, const cv::Mat& responses,
   return static_cast<double>(correct) / samples.rows;
 }
 
-// Stratified fold of every sample: each label's samples shuffled and dealt round-robin.
-std::vector<int> stratifiedFolds(const cv::Mat& responses, std::size_t folds, std::uint32_t seed) {
-  std::vector<int> fold(static_cast<std::size_t>(responses.rows));
+// The rows of each label (0, 1, ...), each list shuffled by one generator seeded `seed`.
+std::vector<std::vector<int>> shuffledRowsByLabel(const cv::Mat& responses, std::uint32_t seed) {
   std::mt19937 random(seed);
   int labels = 0;
   for (int r = 0; r < responses.rows; ++r) {
     labels = std::max(labels, responses.at<int>(r) + 1);
   }
+  std::vector<std::vector<int>> by_label(static_cast<std::size_t>(labels));
   for (int label = 0; label < labels; ++label) {
-    std::vector<int> members;
+    std::vector<int>& members = by_label[static_cast<std::size_t>(label)];
     for (int r = 0; r < responses.rows; ++r) {
       if (responses.at<int>(r) == label) {
         members.push_back(r);
       }
     }
     std::shuffle(members.begin(), members.end(), random);
+  }
+  return by_label;
+}
+
+// Stratified fold of every sample: each label's samples shuffled and dealt round-robin.
+std::vector<int> stratifiedFolds(const cv::Mat& responses, std::size_t folds, std::uint32_t seed) {
+  std::vector<int> fold(static_cast<std::size_t>(responses.rows));
+  for (const std::vector<int>& members : shuffledRowsByLabel(responses, seed)) {
     for (std::size_t k = 0; k < members.size(); ++k) {
       fold[static_cast<std::size_t>(members[k])] = static_cast<int>(k % folds);
     }
@@ -136,24 +144,13 @@ std::vector<int> stratifiedFolds(const cv::Mat& responses, std::size_t folds, st
 // of a smaller label), in their original order.
 std::vector<int> stratifiedSample(const cv::Mat& responses, std::size_t count,
                                   std::size_t per_label_floor, std::uint32_t seed) {
-  std::mt19937 random(seed);
-  int labels = 0;
-  for (int r = 0; r < responses.rows; ++r) {
-    labels = std::max(labels, responses.at<int>(r) + 1);
-  }
   std::vector<int> rows;
   const double share = static_cast<double>(count) / responses.rows;
-  for (int label = 0; label < labels; ++label) {
-    std::vector<int> members;
-    for (int r = 0; r < responses.rows; ++r) {
-      if (responses.at<int>(r) == label) {
-        members.push_back(r);
-      }
-    }
-    std::shuffle(members.begin(), members.end(), random);
+  for (const std::vector<int>& members : shuffledRowsByLabel(responses, seed)) {
     const std::size_t keep = std::min(
-        members.size(), std::max(per_label_floor, static_cast<std::size_t>(std::lround(
-                                                      share * static_cast<double>(members.size())))));
+        members.size(),
+        std::max(per_label_floor,
+                 static_cast<std::size_t>(std::lround(share * static_cast<double>(members.size())))));
     rows.insert(rows.end(), members.begin(), members.begin() + static_cast<std::ptrdiff_t>(keep));
   }
   std::sort(rows.begin(), rows.end());

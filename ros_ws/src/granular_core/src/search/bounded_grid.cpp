@@ -53,7 +53,7 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bou
     }
   };
   const std::size_t cells = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
-  std::vector<std::size_t> cell_of;  // per entry; entries in point order, so ties keep it
+  std::vector<std::size_t> cell_of;  // per entry, entries in point order
   std::vector<std::uint32_t> point_of;
   for (std::size_t i = 0; i < count; ++i) {
     int first[3], last[3];

@@ -35,8 +35,7 @@ void NearestTree::setInputCloud(const PointCloudConstPtr& cloud,
       add(static_cast<pcl::index_t>(i));
     }
   }
-  grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings);
-  buildBoundedGrid();
+  buildNeighbourGrid();
   tree_ = std::make_unique<NearestPoints>(points_.data(), mapping_.size());
 }
 
@@ -49,14 +48,18 @@ void NearestTree::setCorrespondenceBound(double max_distance) {
     bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
   }
   correspondence_bound_ = std::nextafter(bound, std::numeric_limits<float>::infinity());
-  buildBoundedGrid();
+  buildNeighbourGrid();
 }
 
-void NearestTree::buildBoundedGrid() {
-  bounded_ = std::isfinite(correspondence_bound_) && correspondence_bound_ > 0.0f
-                 ? std::make_unique<BoundedGrid>(points_.data(), mapping_.size(),
-                                                 correspondence_bound_)
-                 : nullptr;
+void NearestTree::buildNeighbourGrid() {
+  if (std::isfinite(correspondence_bound_)) {
+    bounded_ = std::make_unique<BoundedGrid>(points_.data(), mapping_.size(),
+                                             correspondence_bound_);
+    grid_.reset();
+  } else {
+    grid_ = std::make_unique<NearestGrid>(points_.data(), mapping_.size(), kGridRings);
+    bounded_.reset();
+  }
 }
 
 int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,

@@ -56,13 +56,15 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   // the grid cannot settle it, bounded by what the grid found.
   NearestGrid::Result nearestWithin(const float query[3], float bound) const;
 
-  // The BoundedGrid of the points for the correspondence bound, or none without a bound.
-  void buildBoundedGrid();
+  // The single-neighbour search for the current bound: a BoundedGrid for a finite one,
+  // otherwise a NearestGrid, with the kd-tree for what its rings cannot settle. Only one of
+  // the two grids is built.
+  void buildNeighbourGrid();
 
   std::vector<float> points_;
   pcl::Indices mapping_;
-  std::unique_ptr<NearestGrid> grid_;
-  std::unique_ptr<BoundedGrid> bounded_;  ///< with a correspondence bound
+  std::unique_ptr<NearestGrid> grid_;     ///< without a correspondence bound
+  std::unique_ptr<BoundedGrid> bounded_;  ///< with one
   std::unique_ptr<NearestPoints> tree_;
   float correspondence_bound_ = std::numeric_limits<float>::infinity();
 };

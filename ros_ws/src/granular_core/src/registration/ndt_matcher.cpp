@@ -164,14 +164,11 @@ void NdtMatcher::neighbours(const Point& point, std::vector<std::uint32_t>& foun
                             std::vector<float>& distances) const {
   found.clear();
   distances.clear();
-  std::size_t bucket = 0;
-  for (int axis = 2; axis >= 0; --axis) {
-    const float offset = std::floor((point.data[axis] - origin_[axis]) / bucket_);
-    if (!(offset >= 0.0f && offset < static_cast<float>(size_[axis]))) {
-      return;  // beyond the grid (or not finite): no cell is near
-    }
-    bucket = bucket * static_cast<std::size_t>(size_[axis]) + static_cast<std::size_t>(offset);
+  int coordinates[3];
+  if (!cellOf(point.data, origin_, bucket_, size_, coordinates)) {
+    return;  // beyond the grid (or not finite): no cell is near
   }
+  const std::size_t bucket = cellIndex(coordinates, size_);
   for (std::uint32_t k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
     // FLANN's test: the squared distance strictly below the squared radius.
     const float distance = flannSquaredDistance(candidates_[k].centroid, point.data);

@@ -96,15 +96,14 @@ NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
   NearestGrid::Result result;
   result.resolved = true;
   result.distance = bound_;
-  std::size_t cell = 0;
+  int coordinates[3];
+  if (!cellOf(query, origin_, cell_, size_, coordinates)) {
+    return result;  // beyond the grid (or not finite): no point within the bound
+  }
+  const std::size_t cell = cellIndex(coordinates, size_);
   float centre[3];
-  for (int axis = 2; axis >= 0; --axis) {
-    const float offset = std::floor((query[axis] - origin_[axis]) / cell_);
-    if (!(offset >= 0.0f && offset < static_cast<float>(size_[axis]))) {
-      return result;  // beyond the grid (or not finite): no point within the bound
-    }
-    cell = cell * static_cast<std::size_t>(size_[axis]) + static_cast<std::size_t>(offset);
-    centre[axis] = origin_[axis] + cell_ * (offset + 0.5f);
+  for (int axis = 0; axis < 3; ++axis) {
+    centre[axis] = origin_[axis] + cell_ * (static_cast<float>(coordinates[axis]) + 0.5f);
   }
   // An entry lies at least its distance from the centre less the query's from it: once that
   // exceeds the best distance (widened for rounding), no later entry can be nearer.

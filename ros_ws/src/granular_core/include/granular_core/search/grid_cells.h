@@ -4,6 +4,7 @@
 // histograms' CellIndex keep them (a header of the library's sources, not of its interface).
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -21,6 +22,27 @@ void forEachCell(const int low[3], const int high[3], const int size[3], Visit v
       }
     }
   }
+}
+
+/// The cell of a grid of `size` cells `cell` wide from `origin` that holds `point`: its
+/// coordinates (x y z) into `coordinates` and true, or false for a point beyond the grid (or
+/// not finite).
+inline bool cellOf(const float point[3], const float origin[3], float cell, const int size[3],
+                   int coordinates[3]) {
+  for (int axis = 0; axis < 3; ++axis) {
+    const float offset = std::floor((point[axis] - origin[axis]) / cell);
+    if (!(offset >= 0.0f && offset < static_cast<float>(size[axis]))) {
+      return false;
+    }
+    coordinates[axis] = static_cast<int>(offset);
+  }
+  return true;
+}
+
+/// The index of the cell at `coordinates` (x y z) in a grid of `size` cells, x fastest.
+inline std::size_t cellIndex(const int coordinates[3], const int size[3]) {
+  return (static_cast<std::size_t>(coordinates[2]) * size[1] + coordinates[1]) * size[0] +
+         coordinates[0];
 }
 
 /// Items sorted by cell: the items of cell c are order[start[c]] .. order[start[c + 1] - 1],

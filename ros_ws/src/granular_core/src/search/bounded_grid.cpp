@@ -114,13 +114,8 @@ NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
   float stop = stopAt(result.distance);
   for (std::uint32_t entry = list_start_[cell];
        entry < list_start_[cell + 1] && from_centre_[entry] <= stop; ++entry) {
-    const float distance = flannSquaredDistance(query, &points_[3 * entry]);
-    if (distance < result.distance ||
-        (distance == result.distance && result.found && indices_[entry] < result.index)) {
-      result.distance = distance;
-      result.index = indices_[entry];
-      result.found = true;
-      stop = stopAt(distance);
+    if (result.offer(indices_[entry], flannSquaredDistance(query, &points_[3 * entry]))) {
+      stop = stopAt(result.distance);
     }
   }
   return result;

@@ -88,13 +88,7 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
 
 void NearestGrid::scan(std::size_t cell, const float query[3], Result& result) const {
   for (std::uint32_t p = cell_start_[cell]; p < cell_start_[cell + 1]; ++p) {
-    const float distance = flannSquaredDistance(query, &points_[3 * p]);
-    if (distance < result.distance ||
-        (distance == result.distance && result.found && indices_[p] < result.index)) {
-      result.distance = distance;
-      result.index = indices_[p];
-      result.found = true;
-    }
+    result.offer(indices_[p], flannSquaredDistance(query, &points_[3 * p]));
   }
 }
 

@@ -26,6 +26,18 @@ class NearestGrid {
     bool found = false;      ///< a point lies within the bound
     std::size_t index = 0;   ///< of the nearest point, into the cloud given
     float distance = std::numeric_limits<float>::infinity();  ///< squared, m^2
+
+    /// Takes point `candidate` at squared distance `squared` when it is nearer than the best
+    /// so far, or as near with a lower index (FLANN's order among equals); true when taken.
+    bool offer(std::size_t candidate, float squared) {
+      if (squared < distance || (squared == distance && found && candidate < index)) {
+        distance = squared;
+        index = candidate;
+        found = true;
+        return true;
+      }
+      return false;
+    }
   };
 
   /// Indexes `count` points given as x y z floats (all finite). `max_rings`: how many rings of

@@ -148,7 +148,7 @@ def main(argv=None):
         prog="evaluate_many",
         description="Simulate several independent train/test drive pairs, run the evaluation "
                     "(run_evaluation) on each, and pool them: per method and N_thresh the "
-                    "mean accuracy over the pairs with a 95%% interval from a bootstrap over "
+                    "mean accuracy over the pairs with a 95% interval from a bootstrap over "
                     "each pair's vehicle instances, per object and per track, for all classes "
                     "and the four cars (OUT/index.md, OUT/summary.json). A pair already "
                     "evaluated in OUT is reused.")

@@ -199,15 +199,17 @@ double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved
   gradient.setZero();
   hessian.setZero();
   double score = 0;
-  pass.ndt.computeAngleDerivatives(transform);
+  pass.ndt.computeAngleDerivatives(transform, compute_hessian);
   const Eigen::Matrix<double, 3, 6>& jacobian = pass.ndt.pointJacobian();
+  const Eigen::Matrix<double, 18, 6>& point_hessian = pass.ndt.pointHessian();
   for (std::size_t idx = 0; idx < source.size(); ++idx) {
     neighbours(moved[idx], pass.cells, pass.distances);
     if (pass.cells.empty()) {
       continue;
     }
     // Once per point here, where PCL repeats it for every cell the point meets.
-    pass.ndt.computePointDerivatives(source[idx].getVector3fMap().template cast<double>());
+    pass.ndt.computePointDerivatives(source[idx].getVector3fMap().template cast<double>(),
+                                     compute_hessian);
     for (const std::uint32_t cell : pass.cells) {
       const Eigen::Vector3d x_trans =
           moved[idx].getVector3fMap().template cast<double>() - means_[cell];
@@ -221,28 +223,33 @@ double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved
       }
       e_x_cov_x *= gauss_d1_;
       // PCL evaluates c_inv * J_j and x_trans . (c_inv * J_j) again for every Hessian entry.
+      // The first three columns of J are unit vectors, so c_inv * J_j is c_inv's column and
+      // J_j . v is v's entry: the same values without the products by 0 and 1.
       Eigen::Vector3d cov_dxd[6];
       double x_dot_cov_dxd[6];
       for (int i = 0; i < 6; ++i) {
-        cov_dxd[i] = c_inv * jacobian.col(i);
+        cov_dxd[i] = i < 3 ? Eigen::Vector3d(c_inv.col(i))
+                           : Eigen::Vector3d(c_inv * jacobian.col(i));
         x_dot_cov_dxd[i] = x_trans.dot(cov_dxd[i]);
         gradient(i) += x_dot_cov_dxd[i] * e_x_cov_x;
       }
       if (compute_hessian) {
-        // The point's second derivatives are zero but for rotation pairs (eq. 6.20).
+        // The point's second derivatives are zero but for rotation pairs (eq. 6.20), and
+        // PCL's blocks (3i, j) and (3j, i) hold the same vector.
         double x_dot_cov_hessian[3][3];
         for (int i = 3; i < 6; ++i) {
-          for (int j = 3; j < 6; ++j) {
-            x_dot_cov_hessian[i - 3][j - 3] =
-                x_trans.dot(c_inv * pass.ndt.pointHessian().block<3, 1>(3 * i, j));
+          for (int j = i; j < 6; ++j) {
+            x_dot_cov_hessian[i - 3][j - 3] = x_dot_cov_hessian[j - 3][i - 3] =
+                x_trans.dot(c_inv * point_hessian.block<3, 1>(3 * i, j));
           }
         }
         for (int i = 0; i < 6; ++i) {
           for (int j = 0; j < 6; ++j) {
             const double second =
                 (i >= 3 && j >= 3) ? x_dot_cov_hessian[i - 3][j - 3] : 0.0;
+            const double first = j < 3 ? cov_dxd[i](j) : jacobian.col(j).dot(cov_dxd[i]);
             hessian(i, j) += e_x_cov_x * (-gauss_d2_ * x_dot_cov_dxd[i] * x_dot_cov_dxd[j] +
-                                          second + jacobian.col(j).dot(cov_dxd[i]));
+                                          second + first);
           }
         }
       }

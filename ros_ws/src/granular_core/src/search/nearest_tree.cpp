@@ -81,34 +81,50 @@ double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& tra
   if (mapping_.empty() || source.empty()) {
     return std::numeric_limits<double>::max();
   }
-  // Most points of most pairs lie far from the model (the wrong classes), where the grid's
-  // rings cannot settle them: all go to the kd-tree, kPacket neighbours in the scan at a time.
   ModelCloud moved;
   pcl::transformPointCloud(source, moved, transform);
-  constexpr int kPacket = NearestPoints::kPacket;
   std::vector<float> distances(moved.size());
-  for (std::size_t first = 0; first < moved.size(); first += kPacket) {
+  // With a correspondence bound, the points ICP paired (within it) are answered by its
+  // BoundedGrid from one cell's list; the kd-tree answers the rest.
+  std::vector<std::size_t> far;
+  far.reserve(moved.size());
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    if (bounded_) {
+      const NearestGrid::Result nearest = bounded_->nearest(moved[i].data);
+      if (nearest.found) {
+        distances[i] = nearest.distance;
+        continue;
+      }
+    }
+    far.push_back(i);
+  }
+  // Most points of most pairs lie far from the model (the wrong classes), where the grid's
+  // rings cannot settle them: the kd-tree takes kPacket of them at a time, each bounded by the
+  // nearest model point of the scan point before the packet (all before it are known): at most
+  // that point's distance plus the step between the two points (widened for rounding).
+  constexpr int kPacket = NearestPoints::kPacket;
+  for (std::size_t first = 0; first < far.size(); first += kPacket) {
     float queries[kPacket][3];
     float bounds[kPacket];
     for (int lane = 0; lane < kPacket; ++lane) {
       // The last packet is filled up with its last point again.
-      const pcl::PointXYZ& point = moved[std::min(first + lane, moved.size() - 1)];
-      std::copy(point.data, point.data + 3, queries[lane]);
+      const std::size_t point = far[std::min(first + lane, far.size() - 1)];
+      std::copy(moved[point].data, moved[point].data + 3, queries[lane]);
       bounds[lane] = std::numeric_limits<float>::infinity();
-      if (first > 0) {
-        // No farther than the previous point's nearest model point: at most the previous
-        // distance plus the step between the two points (widened for rounding).
-        const pcl::PointXYZ& previous = moved[first - 1];
+      if (far[first] > 0) {
+        const pcl::PointXYZ& previous = moved[far[first] - 1];
         const double step =
             std::sqrt(static_cast<double>(flannSquaredDistance(queries[lane], previous.data)));
-        const double reach = std::sqrt(static_cast<double>(distances[first - 1])) + step;
+        const double reach = std::sqrt(static_cast<double>(distances[far[first] - 1])) + step;
         bounds[lane] = static_cast<float>(reach * reach * (1.0 + 1.0e-5) + 1.0e-30);
       }
     }
     float nearest[kPacket];
     tree_->nearestDistances(queries, bounds, nearest);
-    std::copy(nearest, nearest + std::min<std::size_t>(kPacket, moved.size() - first),
-              distances.begin() + static_cast<std::ptrdiff_t>(first));
+    for (std::size_t lane = 0; lane < std::min<std::size_t>(kPacket, far.size() - first);
+         ++lane) {
+      distances[far[first + lane]] = nearest[lane];
+    }
   }
   double sum = 0.0;
   for (const float distance : distances) {

@@ -293,7 +293,9 @@ double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transfor
   Vector6d x_t = transform + direction * a_t;
   final_transform = matrixOf(x_t);
   pcl::transformPointCloud(source, moved, final_transform);
-  score = derivatives(source, moved, x_t, true, gradient, hessian, pass);
+  // PCL computes the Hessian here too; align() computes it where the search stops, and only
+  // when another step follows.
+  score = derivatives(source, moved, x_t, false, gradient, hessian, pass);
 
   double phi_t = -score;
   double d_phi_t = -(gradient.dot(direction));
@@ -332,11 +334,6 @@ double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transfor
           mt.updateIntervalMT(a_l, f_l, g_l, a_u, f_u, g_u, a_t, phi_t, d_phi_t);
     }
     step_iterations++;
-  }
-  // PCL's computeHessian(): the Hessian where the search stopped.
-  if (step_iterations) {
-    Vector6d unused_gradient;
-    derivatives(source, moved, x_t, true, unused_gradient, hessian, pass);
   }
   return a_t;
 }
@@ -383,6 +380,12 @@ NdtMatcher::Result NdtMatcher::align(const ModelCloud& source) const {
         (config_.transformation_epsilon > 0 &&
          translation_sqr <= config_.transformation_epsilon)) {
       result.converged = true;
+    } else {
+      // The Hessian where the search stopped, for the next step (PCL's, from the line
+      // search's evaluation there or its computeHessian(): the same values). A run that
+      // stops after this step never uses it, and tuned NDT's steps, capped by its step_size,
+      // are within its transformation_epsilon: it stops after the first.
+      score = derivatives(source, moved, transform, true, gradient, hessian, pass);
     }
   }
   result.likelihood = score / static_cast<double>(source.size());

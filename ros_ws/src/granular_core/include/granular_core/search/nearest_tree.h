@@ -17,15 +17,17 @@ namespace granular {
 /// The nearest-point search of a fixed class model, shared read-only by all threads. It
 /// answers ICP's single-neighbour queries from a BoundedGrid of the model when they have a
 /// correspondence bound, otherwise from a NearestGrid and, for the queries its rings cannot
-/// settle, from a NearestPoints kd-tree; and the fitness score from the kd-tree, four object
+/// settle, from a NearestPoints kd-tree; and the fitness score from the BoundedGrid for the
+/// points within the bound, when there is one, and from the kd-tree for the rest, four object
 /// points at a time. Every distance is the one PCL's KdTreeFLANN gives,
 /// bit for bit, without its cost per query: PCL allocates and enters an OpenMP parallel region
 /// (FLANN's knnSearch) for each point, which for small objects costs more than the search.
 /// Two searches are also bounded, without changing their answers:
 ///  - ICP's correspondence estimation discards a nearest point beyond the maximum
 ///    correspondence distance, so a search needs to look no farther (setCorrespondenceBound);
-///  - fitness() bounds each point's search by the previous point's distance plus the step
-///    between the two points: neighbouring scan points have neighbouring nearest points.
+///  - fitness() bounds each kd-tree search by the distance of the scan point before its
+///    packet plus the step between the two: neighbouring scan points have neighbouring
+///    nearest points.
 ///
 /// It is a pcl::search::KdTree so that PCL's ICP takes it as its target search
 /// (setSearchMethodTarget); the virtual methods it overrides are PCL 1.13's (see

@@ -110,10 +110,9 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
     margin = std::min({margin, (offset - floor) * cell_, (floor + 1.0f - offset) * cell_});
     inside = inside && centre[axis] >= 0 && centre[axis] < size_[axis];
   }
-  const auto cellIndex = [this](int x, int y, int z) {
-    return (static_cast<std::size_t>(z) * size_[1] + y) * size_[0] + x;
-  };
-  bool beyond_rings = inside && near_[cellIndex(centre[0], centre[1], centre[2])] == 0;
+  // The query's own cell, or none beyond the grid.
+  const std::size_t own = inside ? cellIndex(centre, size_) : cell_start_.size();
+  bool beyond_rings = inside && near_[own] == 0;
   for (int axis = 0; axis < 3; ++axis) {
     beyond_rings = beyond_rings || centre[axis] < -max_rings_ ||
                    centre[axis] >= size_[axis] + max_rings_;
@@ -125,7 +124,7 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
     return result;
   }
   if (inside) {
-    scan(cellIndex(centre[0], centre[1], centre[2]), query, result);
+    scan(own, query, result);
   }
   // Every point of another cell lies at least `margin` away (less a margin for the rounding
   // of the cell coordinates).
@@ -144,7 +143,6 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
       low[axis] = static_cast<int>(std::floor((query[axis] - reach - origin_[axis]) / cell_));
       high[axis] = static_cast<int>(std::floor((query[axis] + reach - origin_[axis]) / cell_));
     }
-    const std::size_t own = inside ? cellIndex(centre[0], centre[1], centre[2]) : cell_start_.size();
     forEachCell(low, high, size_, [&](std::size_t cell) {
       if (cell != own) {
         scan(cell, query, result);
@@ -166,7 +164,8 @@ NearestGrid::Result NearestGrid::nearest(const float query[3], float bound) cons
         const int step = shell ? 1 : 2 * ring;
         for (int x = centre[0] - ring; x <= centre[0] + ring; x += step) {
           if (x >= 0 && x < size_[0]) {
-            scan(cellIndex(x, y, z), query, result);
+            const int cell[3] = {x, y, z};
+            scan(cellIndex(cell, size_), query, result);
           }
         }
       }

@@ -68,9 +68,7 @@ class CellIndex {
     }
     return c;
   }
-  std::size_t index(const Eigen::Vector3i& c) const {
-    return (static_cast<std::size_t>(c.z()) * size_[1] + c.y()) * size_[0] + c.x();
-  }
+  std::size_t index(const Eigen::Vector3i& c) const { return cellIndex(c.data(), size_); }
 
   const std::vector<Eigen::Vector3f>& points_;
   float cell_;

@@ -261,9 +261,12 @@ double NdtMatcher::derivatives(const ModelCloud& source, const ModelCloud& moved
 
 double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transform,
                               Vector6d& direction, double step_init, double& score,
-                              Vector6d& gradient, Matrix6d& hessian, ModelCloud& moved,
+                              Vector6d& gradient, ModelCloud& moved,
                               Eigen::Matrix4f& final_transform, Pass& pass) const {
   // computeStepLengthMT() [More, Thuente 1994], its helpers PCL's own.
+  // PCL computes the Hessian at the first trial too; align() computes it where the search
+  // stops, and only when another step follows. Every trial here asks for none.
+  Matrix6d no_hessian;
   const NdtParts& mt = pass.ndt;
   const double step_max = config_.step_size;
   const double step_min = config_.transformation_epsilon / 2;
@@ -293,9 +296,7 @@ double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transfor
   Vector6d x_t = transform + direction * a_t;
   final_transform = matrixOf(x_t);
   pcl::transformPointCloud(source, moved, final_transform);
-  // PCL computes the Hessian here too; align() computes it where the search stops, and only
-  // when another step follows.
-  score = derivatives(source, moved, x_t, false, gradient, hessian, pass);
+  score = derivatives(source, moved, x_t, false, gradient, no_hessian, pass);
 
   double phi_t = -score;
   double d_phi_t = -(gradient.dot(direction));
@@ -313,7 +314,7 @@ double NdtMatcher::stepLength(const ModelCloud& source, const Vector6d& transfor
     x_t = transform + direction * a_t;
     final_transform = matrixOf(x_t);
     pcl::transformPointCloud(source, moved, final_transform);
-    score = derivatives(source, moved, x_t, false, gradient, hessian, pass);
+    score = derivatives(source, moved, x_t, false, gradient, no_hessian, pass);
 
     phi_t = -score;
     d_phi_t = -(gradient.dot(direction));
@@ -368,8 +369,8 @@ NdtMatcher::Result NdtMatcher::align(const ModelCloud& source) const {
       return result;
     }
     delta /= delta_norm;
-    delta_norm = stepLength(source, transform, delta, delta_norm, score, gradient, hessian,
-                            moved, result.transform, pass);
+    delta_norm = stepLength(source, transform, delta, delta_norm, score, gradient, moved,
+                            result.transform, pass);
     delta *= delta_norm;
     const Eigen::Matrix4f step = matrixOf(delta);
     transform += delta;

@@ -53,10 +53,12 @@ class NdtMatcher {
   double derivatives(const ModelCloud& source, const ModelCloud& moved,
                      const Vector6d& transform, bool compute_hessian, Vector6d& gradient,
                      Matrix6d& hessian, Pass& pass) const;
-  // PCL's computeStepLengthMT(): the step along `direction` and the state there.
+  // PCL's computeStepLengthMT(): the step along `direction` and the state there (the score,
+  // its gradient, the moved source and its transform; not the Hessian, which align() computes
+  // when it needs it).
   double stepLength(const ModelCloud& source, const Vector6d& transform, Vector6d& direction,
-                    double step_init, double& score, Vector6d& gradient, Matrix6d& hessian,
-                    ModelCloud& moved, Eigen::Matrix4f& final_transform, Pass& pass) const;
+                    double step_init, double& score, Vector6d& gradient, ModelCloud& moved,
+                    Eigen::Matrix4f& final_transform, Pass& pass) const;
 
   NdtClassifierConfig config_;
   double gauss_d1_ = 0.0;

@@ -95,14 +95,20 @@ bool fitPlane(const std::vector<Eigen::Vector3d>& points, GroundPlane& plane) {
 GroundPlane estimateGroundPlane(const Cloud& cloud, const GroundPlaneConfig& config,
                                 std::size_t* seeds_found, std::size_t* inliers_found) {
   const SeedRegion region(config);
-  // The lowest point of each seed cell, low enough to be road.
+  // The lowest point of each seed cell, low enough to be road; and, in the same pass over the
+  // cloud, the region's points for the refinement.
   const SquareGrid seed_grid(config.seed_cell, config.seed_max_range);
   constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
   std::vector<std::size_t> lowest(seed_grid.cells(), kNone);
+  std::vector<Eigen::Vector3d> region_points;
   const double highest_seed = -config.sensor_height + config.seed_band;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointXYZIT& point = cloud[i];
-    if (!finite(point) || point.z >= highest_seed || !region.contains(point)) {
+    if (!finite(point) || !region.contains(point)) {
+      continue;
+    }
+    region_points.emplace_back(point.x, point.y, point.z);
+    if (point.z >= highest_seed) {
       continue;
     }
     std::size_t& cell = lowest[seed_grid.cellOf(point.x, point.y)];
@@ -166,14 +172,7 @@ GroundPlane estimateGroundPlane(const Cloud& cloud, const GroundPlaneConfig& con
     return plane;
   }
 
-  // Refinement: least squares on the per-cell means of the points near the plane. The
-  // region's points are gathered once.
-  std::vector<Eigen::Vector3d> region_points;
-  for (const PointXYZIT& point : cloud.points) {
-    if (finite(point) && region.contains(point)) {
-      region_points.emplace_back(point.x, point.y, point.z);
-    }
-  }
+  // Refinement: least squares on the per-cell means of the region's points near the plane.
   const SquareGrid refine_grid(config.refine_cell, config.seed_max_range);
   std::vector<Eigen::Vector3d> sums(refine_grid.cells());
   std::vector<std::size_t> counts(refine_grid.cells());

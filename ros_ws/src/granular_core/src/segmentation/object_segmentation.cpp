@@ -49,6 +49,86 @@ struct PlaneGrid {
   double centre(int index) const { return -half + (index + 0.5) * size; }
 };
 
+// A bit per cell of a PlaneGrid, rows padded to whole 64-bit words: which cells hold a slot.
+class CellBits {
+ public:
+  // Over `words`, sized (and zeroed) for a grid of `side` x `side` when it is not already.
+  CellBits(std::vector<std::uint64_t>& words, int side)
+      : words_(words), side_(side), per_row_((static_cast<std::size_t>(side) + 63) / 64) {
+    if (words_.size() != per_row_ * static_cast<std::size_t>(side)) {
+      words_.assign(per_row_ * static_cast<std::size_t>(side), 0);
+    }
+  }
+  void set(std::uint32_t cell) { words_[wordOf(cell)] |= bitOf(cell); }
+  void clear(std::uint32_t cell) { words_[wordOf(cell)] &= ~bitOf(cell); }
+  bool test(int row, int col) const {
+    return (words_[static_cast<std::size_t>(row) * per_row_ + static_cast<std::size_t>(col) / 64] >>
+            (col % 64)) & 1u;
+  }
+  // visit(col) for each set cell of `row` in columns [first, last], ascending.
+  template <typename Visit>
+  void forEachSet(int row, int first, int last, Visit&& visit) const {
+    if (first > last) {
+      return;
+    }
+    const std::uint64_t* row_words = words_.data() + static_cast<std::size_t>(row) * per_row_;
+    for (int word = first / 64; word <= last / 64; ++word) {
+      const int base = word * 64;
+      std::uint64_t bits = row_words[word];
+      if (first > base) {
+        bits &= ~std::uint64_t{0} << (first - base);
+      }
+      if (last - base < 63) {
+        bits &= ~std::uint64_t{0} >> (63 - (last - base));
+      }
+      while (bits != 0) {
+        visit(base + __builtin_ctzll(bits));
+        bits &= bits - 1;
+      }
+    }
+  }
+
+ private:
+  std::size_t wordOf(std::uint32_t cell) const {
+    return (cell / static_cast<std::uint32_t>(side_)) * per_row_ +
+           (cell % static_cast<std::uint32_t>(side_)) / 64;
+  }
+  std::uint64_t bitOf(std::uint32_t cell) const {
+    return std::uint64_t{1} << ((cell % static_cast<std::uint32_t>(side_)) % 64);
+  }
+
+  std::vector<std::uint64_t>& words_;
+  int side_;
+  std::size_t per_row_;
+};
+
+// The places 0 .. keys.size() - 1 ordered by their key (all below key_count), equal keys in
+// place order: a least-significant-digit radix sort, 11 bits a pass.
+std::vector<std::uint32_t> stableOrderByKey(const std::vector<std::uint32_t>& keys,
+                                            std::size_t key_count) {
+  constexpr int kDigitBits = 11;
+  constexpr std::uint32_t kDigits = 1u << kDigitBits;
+  std::vector<std::uint32_t> order(keys.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::vector<std::uint32_t> sorted(keys.size());
+  std::vector<std::uint32_t> offset(kDigits);
+  for (int shift = 0; shift < 32 && (key_count - 1) >> shift != 0; shift += kDigitBits) {
+    std::fill(offset.begin(), offset.end(), 0u);
+    for (const std::uint32_t key : keys) {
+      ++offset[(key >> shift) & (kDigits - 1)];
+    }
+    std::uint32_t sum = 0;
+    for (std::uint32_t& count : offset) {
+      sum += std::exchange(count, sum);
+    }
+    for (const std::uint32_t place : order) {
+      sorted[offset[(keys[place] >> shift) & (kDigits - 1)]++] = place;
+    }
+    order.swap(sorted);
+  }
+  return order;
+}
+
 // Disjoint sets of occupied cells, union by size with path halving.
 class Components {
  public:
@@ -203,13 +283,12 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   const std::vector<float>& heights = result.ground.heights;
   const std::vector<bool>& on_ground = result.ground.ground;
 
-  // Candidates: standing above the ground, below overhangs, off the own vehicle, on the grid;
-  // their cells become the frame's occupied cells (slot_ numbers them as they come).
+  // Candidates: standing above the ground, below overhangs, off the own vehicle, on the grid.
   const PlaneGrid grid(config.cell_size, config.max_range);
+  CellBits held(held_, grid.side);
   std::vector<std::size_t> candidates;
+  std::vector<std::uint32_t> candidate_cell;
   std::vector<std::size_t> overhangs;  // higher than candidates, up to 8 m
-  std::vector<std::uint32_t> candidate_slot;
-  std::vector<std::uint32_t> occupied;  // grid cells, in the order first met
   const double min_range_sq = config.min_range * config.min_range;
   const double max_range_sq = config.max_range * config.max_range;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -229,47 +308,41 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       continue;
     }
     if (const auto cell = grid.cellOf(point.x, point.y)) {
-      std::int32_t& slot = slot_[*cell];
-      if (slot < 0) {
-        slot = static_cast<std::int32_t>(occupied.size());
-        occupied.push_back(static_cast<std::uint32_t>(*cell));
-      }
       candidates.push_back(i);
-      candidate_slot.push_back(static_cast<std::uint32_t>(slot));
+      candidate_cell.push_back(static_cast<std::uint32_t>(*cell));
     }
   }
+  // The frame's occupied cells in row-major order (so that segments come in a fixed order),
+  // numbered k in slot_, and the candidates of cell k at by_cell[start[k] .. start[k + 1]), in
+  // cloud order. Sorting by cell first touches slot_ once a cell and in memory order.
+  std::vector<std::uint32_t> occupied;
+  std::vector<std::uint32_t> start;
+  std::vector<std::size_t> by_cell(candidates.size());
+  {
+    const std::vector<std::uint32_t> order = stableOrderByKey(candidate_cell, grid.cells());
+    for (std::size_t n = 0; n < order.size(); ++n) {
+      const std::uint32_t cell = candidate_cell[order[n]];
+      if (occupied.empty() || occupied.back() != cell) {
+        slot_[cell] = static_cast<std::int32_t>(occupied.size());
+        held.set(cell);
+        occupied.push_back(cell);
+        start.push_back(static_cast<std::uint32_t>(n));
+      }
+      by_cell[n] = candidates[order[n]];
+    }
+    start.push_back(static_cast<std::uint32_t>(order.size()));
+  }
   // The highest return over each occupied cell: its candidates' and the overhangs above it.
-  std::vector<float> cell_top(occupied.size(), 0.0f);
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    cell_top[candidate_slot[c]] = std::max(cell_top[candidate_slot[c]], heights[candidates[c]]);
+  std::vector<float> top_of_cell(occupied.size(), 0.0f);
+  for (std::size_t k = 0; k < occupied.size(); ++k) {
+    for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
+      top_of_cell[k] = std::max(top_of_cell[k], heights[by_cell[c]]);
+    }
   }
   for (const std::size_t i : overhangs) {
     if (const auto cell = grid.cellOf(cloud[i].x, cloud[i].y); cell && slot_[*cell] >= 0) {
-      float& top = cell_top[static_cast<std::size_t>(slot_[*cell])];
+      float& top = top_of_cell[static_cast<std::size_t>(slot_[*cell])];
       top = std::max(top, heights[i]);
-    }
-  }
-  // Occupied cells in row-major order, so that segments come in a fixed order.
-  std::sort(occupied.begin(), occupied.end());
-  std::vector<std::uint32_t> renumbered(occupied.size());
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    renumbered[static_cast<std::size_t>(slot_[occupied[k]])] = static_cast<std::uint32_t>(k);
-    slot_[occupied[k]] = static_cast<std::int32_t>(k);
-  }
-  // The candidates of each occupied cell (a counting sort over the occupied cells only).
-  std::vector<std::uint32_t> start(occupied.size() + 1, 0);
-  for (std::uint32_t& slot : candidate_slot) {
-    slot = renumbered[slot];
-    ++start[slot + 1];
-  }
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    start[k + 1] += start[k];
-  }
-  std::vector<std::size_t> by_cell(candidates.size());
-  {
-    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      by_cell[next[candidate_slot[c]]++] = candidates[c];
     }
   }
 
@@ -298,7 +371,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // link_cells, close across the line of sight). The reach grows by at most one cell over a
   // reach's distance, so scanning the rows and columns after each cell up to its reach plus one
   // finds every pair once. `cells` are occupied cells (k) whose slot_ holds their place in
-  // `cells`; `components` joins places.
+  // `cells` (and whose bit is set: only theirs); `components` joins places.
   const auto joinNeighbours = [&](const std::vector<std::uint32_t>& cells,
                                   Components& components) {
     for (std::size_t j = 0; j < cells.size(); ++j) {
@@ -309,18 +382,15 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       for (int r = row; r <= std::min(row + window, grid.side - 1); ++r) {
         const int first_col = r == row ? col + 1 : std::max(col - window, 0);
         const std::int32_t* slots = slot_.data() + static_cast<std::size_t>(r) * grid.side;
-        for (int c = first_col; c <= std::min(col + window, grid.side - 1); ++c) {
+        held.forEachSet(r, first_col, std::min(col + window, grid.side - 1), [&](int c) {
           const std::int32_t other = slots[c];
-          if (other < 0) {
-            continue;
-          }
           const std::uint32_t l = cells[static_cast<std::size_t>(other)];
           const int apart = std::max(r - row, std::abs(c - col));
           if (apart <= config.link_cells ||
               (apart <= std::max(link[k], link[l]) && closeAcross(k, l))) {
             components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
           }
-        }
+        });
       }
     }
   };
@@ -333,7 +403,7 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // strictly above and to the right of each of its points, and likewise for the other three
   // quadrants; no direction has one of its points extreme. The footprint's hull is taken over
   // the other cells' points only (on a near car most cells are inner), with the same result.
-  // innerCells: per cell of `cells` (the only cells whose slot_ is set), whether it is inner.
+  // innerCells: per cell of `cells` (the only cells whose bit is set), whether it is inner.
   const auto innerCells = [&](const std::vector<std::uint32_t>& cells) {
     std::vector<bool> inner(cells.size(), false);
     for (std::size_t j = 0; j < cells.size(); ++j) {
@@ -342,21 +412,15 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
         continue;
       }
-      const auto held = [&](int r, int c) {
-        return slot_[static_cast<std::size_t>(r) * grid.side + static_cast<std::size_t>(c)] >= 0;
-      };
-      inner[j] = held(row - 1, col - 1) && held(row - 1, col + 1) && held(row + 1, col - 1) &&
-                 held(row + 1, col + 1);
+      inner[j] = held.test(row - 1, col - 1) && held.test(row - 1, col + 1) &&
+                 held.test(row + 1, col - 1) && held.test(row + 1, col + 1);
     }
     return inner;
   };
   const std::vector<bool> inner = innerCells(all_cells);  // all_cells[k] == k
   for (const std::uint32_t cell : occupied) {
     slot_[cell] = -1;  // empty again for the next frame
-  }
-  std::vector<float> top_of_cell(occupied.size());
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    top_of_cell[renumbered[k]] = cell_top[k];
+    held.clear(cell);
   }
 
   // Each component's cells (places in all_cells are the cells), in the order of their first.
@@ -603,11 +667,13 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     }
     for (std::size_t j = 0; j < left.size(); ++j) {
       slot_[occupied[left[j]]] = static_cast<std::int32_t>(j);
+      held.set(occupied[left[j]]);
     }
     Components joined(left.size());
     joinNeighbours(left, joined);
     for (const std::uint32_t k : left) {
       slot_[occupied[k]] = -1;
+      held.clear(occupied[k]);
     }
     // Slivers of the wall itself (its far face, a rough hedge's fringe: every cell within the
     // wall's thickness of the band, along the run) are no objects.
@@ -634,11 +700,11 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // Per cell of a piece left by a peeled wall, whether it is inner among the piece's cells.
   const auto innerAmong = [&](const std::vector<std::uint32_t>& cells) {
     for (const std::uint32_t k : cells) {
-      slot_[occupied[k]] = 0;
+      held.set(occupied[k]);
     }
     std::vector<bool> piece_inner = innerCells(cells);
     for (const std::uint32_t k : cells) {
-      slot_[occupied[k]] = -1;
+      held.clear(occupied[k]);
     }
     return piece_inner;
   };

@@ -33,6 +33,36 @@ TEST(ObjectSegmentationTest, TwoBoxesThirtyCentimetresApartAreTwoSegments) {
             second);
 }
 
+std::vector<std::set<std::size_t>> pointsOf(const ObjectSegmentation& result) {
+  std::vector<std::set<std::size_t>> points;
+  for (const Segment& segment : result.segments) {
+    points.emplace_back(segment.indices.begin(), segment.indices.end());
+  }
+  return points;
+}
+
+TEST(ObjectSegmentationTest, OneSegmenterGivesEachFrameWhatAFreshOneGives) {
+  // A grid of 640 cells a side (48 m at 0.15 m): its last column is the last bit of a row's
+  // last word, where the first frame's car ends, 47.9 m ahead. The second frame's car stands
+  // half a metre to the side of it: the first frame's cells must not be left occupied.
+  ObjectSegmentationConfig config;
+  config.max_range = 48.0;
+  Cloud first = road();
+  const std::set<std::size_t> edge_car = addBox(first, {46.0, 0.0}, 0.0, {3.8, 1.8, 1.5});
+  Cloud second = road();
+  const std::set<std::size_t> beside = addBox(second, {45.5, -0.6}, 0.0, {3.8, 1.8, 1.5});
+  ObjectSegmenter segmenter(config);
+  for (int pass = 0; pass < 2; ++pass) {
+    const ObjectSegmentation at_edge =
+        segmenter.segment(first, estimateGround(first, roadGround()));
+    EXPECT_EQ(pointsOf(at_edge), std::vector<std::set<std::size_t>>{edge_car});
+    const ObjectSegmentation next =
+        segmenter.segment(second, estimateGround(second, roadGround()));
+    EXPECT_EQ(pointsOf(next), std::vector<std::set<std::size_t>>{beside});
+    EXPECT_EQ(pointsOf(next), pointsOf(segmentObjects(second, roadGround(), config)));
+  }
+}
+
 TEST(ObjectSegmentationTest, AGroundedBoxGetsItsFootprintFromTheRoadToItsTop) {
   Cloud cloud = road();
   const double yaw = 0.4;

@@ -187,6 +187,9 @@ class ObjectSegmenter {
   ObjectSegmentationConfig config_;
   /// Per grid cell: its place among the frame's occupied cells, -1 between frames.
   std::vector<std::int32_t> slot_;
+  /// Per grid cell, one bit (rows padded to whole words): whether slot_ holds a place. A
+  /// thirty-second of slot_'s size, so that the windows the links scan stay in cache.
+  std::vector<std::uint64_t> held_;
 };
 
 /// One cloud through the ground stage and a fresh ObjectSegmenter.

@@ -108,9 +108,10 @@ Eigen::Vector2d extentAbove(const LevelledObject& object, const AxisRectangle& r
                             double height) {
   Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d high = -low;
+  const RectangleAxes axes(rectangle);
   for (const Eigen::Vector3d& point : object.points) {
     if (point.z() >= height) {
-      const Eigen::Vector2d c = rectangle.coordinates(point.head<2>());
+      const Eigen::Vector2d c = axes.coordinates(point.head<2>());
       low = low.cwiseMin(c);
       high = high.cwiseMax(c);
     }
@@ -149,8 +150,9 @@ AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& 
                                               : thinnedPoints(xy, config.cell),
                 config);
   // The extremes of every point, not of the cell means.
+  const RectangleAxes axes(rectangle);
   for (const Eigen::Vector2d& point : xy) {
-    const Eigen::Vector2d c = rectangle.coordinates(point);
+    const Eigen::Vector2d c = axes.coordinates(point);
     rectangle.min = rectangle.min.cwiseMin(c);
     rectangle.max = rectangle.max.cwiseMax(c);
   }

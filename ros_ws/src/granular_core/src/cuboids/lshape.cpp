@@ -100,7 +100,7 @@ Eigen::Vector2d AxisRectangle::centre() const {
 }
 
 Eigen::Vector2d AxisRectangle::coordinates(const Eigen::Vector2d& point) const {
-  return {point.dot(u()), point.dot(v())};
+  return RectangleAxes(*this).coordinates(point);
 }
 
 Eigen::Vector2d AxisRectangle::point(const Eigen::Vector2d& coordinates) const {
@@ -182,8 +182,9 @@ AxisRectangle fitLShape(const std::vector<Eigen::Vector2d>& points, const LShape
   rectangle.heading = quarterAngle(best);
   rectangle.min.setConstant(std::numeric_limits<double>::infinity());
   rectangle.max.setConstant(-std::numeric_limits<double>::infinity());
+  const RectangleAxes axes(rectangle);
   for (const Eigen::Vector2d& point : points) {
-    const Eigen::Vector2d c = rectangle.coordinates(point);
+    const Eigen::Vector2d c = axes.coordinates(point);
     rectangle.min = rectangle.min.cwiseMin(c);
     rectangle.max = rectangle.max.cwiseMax(c);
   }

@@ -28,6 +28,19 @@ struct AxisRectangle {
   Eigen::Vector2d point(const Eigen::Vector2d& coordinates) const;
 };
 
+/// AxisRectangle::coordinates for many points: the heading's cosine and sine taken once, not
+/// four times a point.
+class RectangleAxes {
+ public:
+  explicit RectangleAxes(const AxisRectangle& rectangle) : u_(rectangle.u()), v_(rectangle.v()) {}
+  Eigen::Vector2d coordinates(const Eigen::Vector2d& point) const {
+    return {point.dot(u_), point.dot(v_)};
+  }
+
+ private:
+  Eigen::Vector2d u_, v_;
+};
+
 /// The points merged to one per `cell` (m) square, at the mean of the cell's points, in the
 /// order of their cells. Empty input gives empty output.
 std::vector<Eigen::Vector2d> thinnedPoints(const std::vector<Eigen::Vector2d>& points,

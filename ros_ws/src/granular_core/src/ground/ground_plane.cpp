@@ -173,24 +173,45 @@ GroundPlane estimateGroundPlane(const Cloud& cloud, const GroundPlaneConfig& con
   }
 
   // Refinement: least squares on the per-cell means of the region's points near the plane.
+  // Each point's cell, and the rows and columns the region covers (a field of view ahead
+  // covers a third of the grid): the passes clear and read those cells only.
   const SquareGrid refine_grid(config.refine_cell, config.seed_max_range);
+  std::vector<std::size_t> cell_of(region_points.size());
+  std::size_t first_row = refine_grid.side, last_row = 0;
+  std::size_t first_column = refine_grid.side, last_column = 0;
+  for (std::size_t i = 0; i < region_points.size(); ++i) {
+    cell_of[i] = refine_grid.cellOf(region_points[i].x(), region_points[i].y());
+    const std::size_t row = cell_of[i] / refine_grid.side;
+    const std::size_t column = cell_of[i] % refine_grid.side;
+    first_row = std::min(first_row, row);
+    last_row = std::max(last_row, row);
+    first_column = std::min(first_column, column);
+    last_column = std::max(last_column, column);
+  }
   std::vector<Eigen::Vector3d> sums(refine_grid.cells());
   std::vector<std::size_t> counts(refine_grid.cells());
   for (int pass = 0; pass < config.refine_passes; ++pass) {
-    std::fill(sums.begin(), sums.end(), Eigen::Vector3d::Zero());
-    std::fill(counts.begin(), counts.end(), 0);
-    for (const Eigen::Vector3d& p : region_points) {
+    for (std::size_t row = first_row; row <= last_row; ++row) {
+      const std::size_t from = row * refine_grid.side + first_column;
+      const std::size_t to = row * refine_grid.side + last_column + 1;
+      std::fill(sums.begin() + from, sums.begin() + to, Eigen::Vector3d::Zero());
+      std::fill(counts.begin() + from, counts.begin() + to, 0);
+    }
+    for (std::size_t i = 0; i < region_points.size(); ++i) {
+      const Eigen::Vector3d& p = region_points[i];
       if (std::abs(plane.heightOf(p)) < config.inlier_distance) {
-        const std::size_t cell = refine_grid.cellOf(p.x(), p.y());
-        sums[cell] += p;
-        ++counts[cell];
+        sums[cell_of[i]] += p;
+        ++counts[cell_of[i]];
       }
     }
     // In cell order: the same cloud gives the same plane to the bit.
     std::vector<Eigen::Vector3d> points;
-    for (std::size_t cell = 0; cell < sums.size(); ++cell) {
-      if (counts[cell] > 0) {
-        points.push_back(sums[cell] / static_cast<double>(counts[cell]));
+    for (std::size_t row = first_row; row <= last_row; ++row) {
+      for (std::size_t cell = row * refine_grid.side + first_column;
+           cell <= row * refine_grid.side + last_column; ++cell) {
+        if (counts[cell] > 0) {
+          points.push_back(sums[cell] / static_cast<double>(counts[cell]));
+        }
       }
     }
     GroundPlane refined;

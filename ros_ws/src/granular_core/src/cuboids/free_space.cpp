@@ -49,7 +49,7 @@ bool FreeSpace::seenEmpty(const Eigen::Vector3d& point) const {
 
 std::size_t FreeSpace::binOf(double x, double y) const {
   // The angle from -pi lies in [0, 2 pi], so the bin is at most one past the last: a
-  // comparison wraps it where the division of a % was a third of the scan's time.
+  // comparison wraps it, sparing each point of the scan an integer division.
   const auto bin = static_cast<std::size_t>((fastAtan2(y, x) + M_PI) / bin_);
   return bin < blocked_.size() ? bin : bin % blocked_.size();
 }

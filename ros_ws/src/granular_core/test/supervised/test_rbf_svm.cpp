@@ -48,17 +48,36 @@ TEST(RbfSvmPredictorTest, AnswersWhatOpenCvsPredictAnswersForEverySample) {
 
     const std::optional<RbfSvmPredictor> predictor = RbfSvmPredictor::from(*svm, classes);
     ASSERT_TRUE(predictor.has_value());
+    const std::optional<RbfSvmPredictor> baseline =
+        RbfSvmPredictor::from(*svm, classes, RbfSvmPredictor::Instructions::kBaseline);
+    ASSERT_TRUE(baseline.has_value());
     cv::Mat queries, unused;
     overlappingClasses(classes, variables, 3001, random, queries, unused);
     cv::Mat expected;
     svm->predict(queries, expected);
     const std::vector<RbfSvmPredictor::Answer> answers = predictor->predict(queries);
     ASSERT_EQ(answers.size(), 3001u);
+    // AVX2 (where this machine has it) and the baseline: the same labels and the same votes,
+    // from the same kernel values.
+    const std::vector<RbfSvmPredictor::Answer> baseline_answers = baseline->predict(queries);
+    ASSERT_EQ(baseline_answers.size(), answers.size());
     int differ = 0, wrong = 0;
     int unanimous = 0;
     for (int r = 0; r < queries.rows; ++r) {
       const RbfSvmPredictor::Answer& answer = answers[static_cast<std::size_t>(r)];
       differ += answer.label != static_cast<int>(expected.at<float>(r));
+      EXPECT_EQ(answer.label, baseline_answers[static_cast<std::size_t>(r)].label);
+      EXPECT_EQ(answer.votes, baseline_answers[static_cast<std::size_t>(r)].votes);
+      if (r % 100 == 0) {
+        // The same float values: a value or a lane out of place changes them (an addition
+        // order would only change the doubles' last bits, which the float rarely keeps).
+        const std::vector<float> values = predictor->kernelRow(queries.ptr<float>(r));
+        const std::vector<float> baseline_values = baseline->kernelRow(queries.ptr<float>(r));
+        ASSERT_EQ(values.size(), baseline_values.size());
+        for (std::size_t s = 0; s < values.size(); ++s) {
+          EXPECT_EQ(values[s], baseline_values[s]) << "support vector " << s;
+        }
+      }
       wrong += answer.label != unused.at<int>(r);
       // The answer wins at least as many duels as any class, and at most all of its own.
       EXPECT_GE(answer.votes, classes / 2);

@@ -18,9 +18,17 @@ namespace granular {
 /// samples are interleaved, which the processor overlaps.
 class RbfSvmPredictor {
  public:
+  /// Which instructions the kernel runs on; both give the same answers, bit for bit.
+  enum class Instructions {
+    kBest,      ///< AVX2 where the processor has it (avx2Available()), else the baseline
+    kBaseline,  ///< what the build targets (x86-64: SSE2)
+  };
+  static bool avx2Available();
+
   /// None when `svm` is not an RBF C or nu classifier with `classes` classes numbered
   /// 0 .. classes - 1 (how SupervisedClassifier trains it): then use svm.predict().
-  static std::optional<RbfSvmPredictor> from(const cv::ml::SVM& svm, int classes);
+  static std::optional<RbfSvmPredictor> from(const cv::ml::SVM& svm, int classes,
+                                             Instructions instructions = Instructions::kBest);
 
   /// One sample's answer: the class predict() gives, and how many of its one-vs-one duels
   /// that class won (classes - 1 at most).
@@ -32,6 +40,10 @@ class RbfSvmPredictor {
   /// The answer for each row of `samples` (CV_32F, one sample a row, as many columns as the
   /// SVM's variables), spread over OpenCV's threads as predict() does.
   std::vector<Answer> predict(const cv::Mat& samples) const;
+
+  /// The kernel values of one sample (as many values as the SVM's variables) against every
+  /// support vector, as OpenCV's calc_rbf leaves them: what the decisions are summed from.
+  std::vector<float> kernelRow(const float* sample) const;
 
  private:
   RbfSvmPredictor() = default;
@@ -47,6 +59,7 @@ class RbfSvmPredictor {
     std::vector<int> support;  // indices into the support vectors
   };
 
+  bool avx2_ = false;
   int classes_ = 0;
   double minus_gamma_ = 0.0;
   LaneBlocks supports_;  // the support vectors

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 
@@ -27,8 +28,11 @@ std::vector<Eigen::Vector3f> finitePoints(const Cloud& cloud) {
 // queries of every sample: an object's cloud is small, and a query touches a few cells.
 class CellIndex {
  public:
+  // The cells of a query, clamped to the grid: low[0..2] and high[0..2] (x y z), inclusive.
+  using Box = std::array<int, 6>;
+
   CellIndex(const std::vector<Eigen::Vector3f>& points, double cell)
-      : points_(points), cell_(static_cast<float>(cell)) {
+      : cell_(static_cast<float>(cell)) {
     low_ = points.front();
     Eigen::Vector3f high = points.front();
     for (const Eigen::Vector3f& p : points) {
@@ -45,14 +49,22 @@ class CellIndex {
     lists_ = sortIntoCells(cell_of, static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
   }
 
-  // Calls visit(point index) for every point in the cells overlapping the box
-  // [centre - half, centre + half].
-  template <typename Visit>
-  void forEachNear(const Eigen::Vector3f& centre, const Eigen::Vector3f& half,
-                   Visit visit) const {
+  // The cells overlapping the box [centre - half, centre + half].
+  Box cellsNear(const Eigen::Vector3f& centre, const Eigen::Vector3f& half) const {
     const Eigen::Vector3i low = coordinates(centre - half);
     const Eigen::Vector3i high = coordinates(centre + half);
-    forEachCell(low.data(), high.data(), size_, [&](std::size_t cell) {
+    Box box;
+    for (int axis = 0; axis < 3; ++axis) {
+      box[axis] = std::max(low[axis], 0);
+      box[3 + axis] = std::min(high[axis], size_[axis] - 1);
+    }
+    return box;
+  }
+
+  // Calls visit(point index) for every point in the cells of `box`, cell by cell (x fastest).
+  template <typename Visit>
+  void forEachIn(const Box& box, Visit visit) const {
+    forEachCell(&box[0], &box[3], size_, [&](std::size_t cell) {
       for (std::uint32_t k = lists_.start[cell]; k < lists_.start[cell + 1]; ++k) {
         visit(lists_.order[k]);
       }
@@ -70,11 +82,29 @@ class CellIndex {
   }
   std::size_t index(const Eigen::Vector3i& c) const { return cellIndex(c.data(), size_); }
 
-  const std::vector<Eigen::Vector3f>& points_;
   float cell_;
   Eigen::Vector3f low_;
   int size_[3] = {1, 1, 1};
   CellLists lists_;
+};
+
+// Points of an object in structure-of-arrays form, for loops the compiler vectorises.
+struct PointColumns {
+  std::vector<std::uint32_t> index;  // into the object's points
+  std::vector<float> x, y, z;
+
+  // x, y and z of the points `index` names.
+  void fill(const std::vector<Eigen::Vector3f>& points) {
+    x.resize(index.size());
+    y.resize(index.size());
+    z.resize(index.size());
+    for (std::size_t j = 0; j < index.size(); ++j) {
+      const Eigen::Vector3f& point = points[index[j]];
+      x[j] = point.x();
+      y[j] = point.y();
+      z[j] = point.z();
+    }
+  }
 };
 
 // The bin of a value in [0, 1] (values outside are clamped to the end bins).
@@ -208,50 +238,103 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
   float* const lalonde_histograms = &features[4];
   float* const slice_histograms = &features[4 + 3 * bins];
 
-  std::vector<std::pair<float, std::uint32_t>> near;
+  // Samples whose queries cover the same cells share their candidate points: gathered once per
+  // group, in the order the cells are visited, so that every sample sees its candidates in the
+  // same order as a query of its own would give them (the covariance sums depend on it).
+  const Eigen::Vector3f reach(std::max(radius, cylinder_radius), std::max(radius, cylinder_radius),
+                              std::max(radius, half_height));
+  std::vector<std::pair<CellIndex::Box, std::uint32_t>> queries;
+  queries.reserve(samples.size());
+  for (const std::uint32_t sample : samples) {
+    queries.emplace_back(cells.cellsNear(points[sample], reach), sample);
+  }
+  std::sort(queries.begin(), queries.end());
+
+  PointColumns candidates;
+  std::vector<float> squared;
+  std::vector<std::int32_t> in_sphere, in_cylinder;  // 0 or 1, as wide as a float: vectorised
+  // (squared distance, point index) as one number: a non-negative float's bits order as the
+  // float does, so these order as the pairs do, and compare in one instruction.
+  std::vector<std::uint64_t> near;
+  std::vector<std::uint32_t> cylinder;
   std::vector<Eigen::Vector3f> neighbourhood;
   std::vector<std::size_t> slice_counts(slices);
-  for (const std::uint32_t sample : samples) {
-    const Eigen::Vector3f& centre = points[sample];
-    near.clear();
-    std::fill(slice_counts.begin(), slice_counts.end(), 0);
-    std::size_t in_cylinder = 0;
-    const Eigen::Vector3f reach(std::max(radius, cylinder_radius), std::max(radius, cylinder_radius),
-                                std::max(radius, half_height));
-    cells.forEachNear(centre, reach, [&](std::uint32_t k) {
-      const Eigen::Vector3f d = points[k] - centre;
-      const float squared = d.squaredNorm();
-      if (squared <= radius * radius) {
-        near.emplace_back(squared, k);
+  for (std::size_t first = 0; first < queries.size();) {
+    std::size_t last = first;
+    while (last < queries.size() && queries[last].first == queries[first].first) {
+      ++last;
+    }
+    candidates.index.clear();
+    cells.forEachIn(queries[first].first,
+                    [&](std::uint32_t k) { candidates.index.push_back(k); });
+    candidates.fill(points);
+    const std::size_t count = candidates.index.size();
+    squared.resize(count);
+    in_sphere.resize(count);
+    in_cylinder.resize(count);
+    near.resize(count);
+    cylinder.resize(count);
+    for (; first < last; ++first) {
+      const Eigen::Vector3f& centre = points[queries[first].second];
+      // Each candidate's squared distance and squared distance in x-y, as Eigen's
+      // (p - centre).squaredNorm() and .head<2>().squaredNorm() compute them (Eigen sums three
+      // values as x0 + (x1 + x2)), and whether it lies in the sphere and in the cylinder: one
+      // loop without branches, which the compiler vectorises.
+      {
+        const float* __restrict x = candidates.x.data();
+        const float* __restrict y = candidates.y.data();
+        const float* __restrict z = candidates.z.data();
+        float* __restrict distance = squared.data();
+        std::int32_t* __restrict sphere = in_sphere.data();
+        std::int32_t* __restrict column = in_cylinder.data();
+        const float cx = centre.x(), cy = centre.y(), cz = centre.z();
+        for (std::size_t j = 0; j < count; ++j) {
+          const float dx = x[j] - cx, dy = y[j] - cy, dz = z[j] - cz;
+          distance[j] = dx * dx + (dy * dy + dz * dz);
+          sphere[j] = distance[j] <= radius * radius;
+          column[j] = (dx * dx + dy * dy <= cylinder_radius * cylinder_radius) &
+                      (std::abs(dz) <= half_height);
+        }
       }
-      if (d.head<2>().squaredNorm() <= cylinder_radius * cylinder_radius &&
-          std::abs(d.z()) <= half_height) {
-        const double height = (d.z() + half_height) / (2.0 * half_height);
+      // Those in each, in the candidates' order, without a branch per candidate.
+      std::size_t near_count = 0, cylinder_count = 0;
+      for (std::size_t j = 0; j < count; ++j) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &squared[j], sizeof bits);
+        near[near_count] = static_cast<std::uint64_t>(bits) << 32 | candidates.index[j];
+        near_count += in_sphere[j];
+        cylinder[cylinder_count] = static_cast<std::uint32_t>(j);
+        cylinder_count += in_cylinder[j];
+      }
+      std::fill(slice_counts.begin(), slice_counts.end(), 0);
+      for (std::size_t c = 0; c < cylinder_count; ++c) {
+        const float dz = candidates.z[cylinder[c]] - centre.z();
+        const double height = (dz + half_height) / (2.0 * half_height);
         ++slice_counts[binOf(height, slices)];
-        ++in_cylinder;
       }
-    });
-    // The `neighbours` nearest within the radius (the sample itself among them), in any order:
-    // the covariance does not depend on it. (distance, index) pairs are distinct, so the set is
-    // the same whatever the order the cells were visited in.
-    const std::size_t kept = std::min(near.size(), config.neighbours);
-    if (kept < near.size()) {
-      std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kept), near.end());
-    }
-    if (kept >= 3) {
-      neighbourhood.clear();
-      for (std::size_t n = 0; n < kept; ++n) {
-        neighbourhood.push_back(points[near[n].second]);
+      // The `neighbours` nearest within the radius (the sample itself among them). The keys are
+      // distinct, so the set is the same whatever order the candidates come in; the order
+      // nth_element leaves them in (the covariance's sums follow it) depends on that order too.
+      const std::size_t kept = std::min(near_count, config.neighbours);
+      if (kept < near_count) {
+        std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kept),
+                         near.begin() + static_cast<std::ptrdiff_t>(near_count));
       }
-      const std::array<double, 3> lalonde = lalondeFeatures(neighbourhood, config.scatter);
-      for (std::size_t f = 0; f < 3; ++f) {
-        lalonde_histograms[f * bins + binOf(lalonde[f], bins)] += share;
+      if (kept >= 3) {
+        neighbourhood.clear();
+        for (std::size_t n = 0; n < kept; ++n) {
+          neighbourhood.push_back(points[static_cast<std::uint32_t>(near[n])]);
+        }
+        const std::array<double, 3> lalonde = lalondeFeatures(neighbourhood, config.scatter);
+        for (std::size_t f = 0; f < 3; ++f) {
+          lalonde_histograms[f * bins + binOf(lalonde[f], bins)] += share;
+        }
       }
-    }
-    // The sample itself is always in its cylinder, so in_cylinder >= 1.
-    for (std::size_t slice = 0; slice < slices; ++slice) {
-      const double fraction = static_cast<double>(slice_counts[slice]) / in_cylinder;
-      slice_histograms[slice * bins + binOf(fraction, bins)] += share;
+      // The sample itself is always in its cylinder, so cylinder_count >= 1.
+      for (std::size_t slice = 0; slice < slices; ++slice) {
+        const double fraction = static_cast<double>(slice_counts[slice]) / cylinder_count;
+        slice_histograms[slice * bins + binOf(fraction, bins)] += share;
+      }
     }
   }
   return features;

@@ -1,7 +1,6 @@
 #include "granular_core/search/bounded_grid.h"
 
 #include <algorithm>
-#include <bitset>
 #include <cmath>
 
 #include "granular_core/search/grid_cells.h"
@@ -20,7 +19,8 @@ constexpr double kSlack = 1.0e-4;
 
 BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bound_(bound) {
   if (count == 0) {
-    return;  // no cell: every query is beyond the grid
+    list_start_.assign(1, 0);
+    return;
   }
   const double reach = std::sqrt(static_cast<double>(bound)) + kSlack;
   double low[3] = {xyz[0], xyz[1], xyz[2]};
@@ -64,25 +64,16 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bou
     });
   }
   CellLists lists = sortIntoCells(cell_of, cells);
+  list_start_ = std::move(lists.start);
   // Each list nearest its cell's centre first, so that a query can stop early (nearest()).
   std::vector<float> from_centre(lists.order.size());
-  listed_.assign((cells + 63) / 64, 0);
-  rank_.assign(listed_.size(), 0);
   for (std::size_t c = 0; c < cells; ++c) {
-    if (c % 64 == 0) {
-      rank_[c / 64] = static_cast<std::uint32_t>(list_start_.size());
-    }
-    if (lists.start[c] == lists.start[c + 1]) {
-      continue;
-    }
-    listed_[c / 64] |= std::uint64_t{1} << (c % 64);
-    list_start_.push_back(lists.start[c]);
     const float centre[3] = {
         origin_[0] + cell_ * (static_cast<float>(c % size_[0]) + 0.5f),
         origin_[1] + cell_ * (static_cast<float>(c / size_[0] % size_[1]) + 0.5f),
         origin_[2] + cell_ * (static_cast<float>(c / size_[0] / size_[1]) + 0.5f)};
-    const auto first = lists.order.begin() + lists.start[c];
-    const auto last = lists.order.begin() + lists.start[c + 1];
+    const auto first = lists.order.begin() + list_start_[c];
+    const auto last = lists.order.begin() + list_start_[c + 1];
     for (auto entry = first; entry != last; ++entry) {
       from_centre[*entry] = std::sqrt(flannSquaredDistance(centre, &xyz[3 * point_of[*entry]]));
     }
@@ -90,7 +81,6 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bou
       return from_centre[a] < from_centre[b];
     });
   }
-  list_start_.push_back(static_cast<std::uint32_t>(lists.order.size()));
   indices_.resize(lists.order.size());
   points_.resize(3 * lists.order.size());
   from_centre_.resize(lists.order.size());
@@ -111,13 +101,6 @@ NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
     return result;  // beyond the grid (or not finite): no point within the bound
   }
   const std::size_t cell = cellIndex(coordinates, size_);
-  const std::uint64_t word = listed_[cell / 64];
-  const std::uint64_t bit = std::uint64_t{1} << (cell % 64);
-  if (!(word & bit)) {
-    return result;  // no point within the bound of anywhere in this cell
-  }
-  const std::size_t list =
-      rank_[cell / 64] + static_cast<std::size_t>(std::bitset<64>(word & (bit - 1)).count());
   float centre[3];
   for (int axis = 0; axis < 3; ++axis) {
     centre[axis] = origin_[axis] + cell_ * (static_cast<float>(coordinates[axis]) + 0.5f);
@@ -129,8 +112,8 @@ NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
     return query_from_centre + std::sqrt(distance) * 1.0001f + 1.0e-5f;
   };
   float stop = stopAt(result.distance);
-  for (std::uint32_t entry = list_start_[list];
-       entry < list_start_[list + 1] && from_centre_[entry] <= stop; ++entry) {
+  for (std::uint32_t entry = list_start_[cell];
+       entry < list_start_[cell + 1] && from_centre_[entry] <= stop; ++entry) {
     if (result.offer(indices_[entry], flannSquaredDistance(query, &points_[3 * entry]))) {
       stop = stopAt(result.distance);
     }

@@ -15,9 +15,6 @@ namespace granular {
 /// its cell's list, instead of visiting the 27 cells around it, and stops once no later entry
 /// can be nearer than the best so far. Distances and ties are NearestGrid's (FLANN's float
 /// arithmetic; the lowest index among equals), so the answers are the same to the bit.
-/// Most cells of a model's grid are empty (its points lie on a surface): a bitmap marks the
-/// cells with a list, and only those have a list start, so that what a query reads to find
-/// its list stays in the cache (the demo's school bus model has 730,000 cells of 0.05 m).
 class BoundedGrid {
  public:
   /// Indexes `count` points given as x y z floats (all finite) for queries of squared bound
@@ -36,11 +33,7 @@ class BoundedGrid {
   float origin_[3] = {0.0f, 0.0f, 0.0f};
   float cell_ = 1.0f;
   int size_[3] = {0, 0, 0};
-  // The entries of the k-th cell with a list: [list_start_[k], list_start_[k + 1]); a cell's
-  // k is the number of such cells before it: rank_ of its bitmap word and the bits before it.
-  std::vector<std::uint64_t> listed_;      ///< one bit per cell: it has a list
-  std::vector<std::uint32_t> rank_;        ///< per word of listed_, the cells listed before it
-  std::vector<std::uint32_t> list_start_;
+  std::vector<std::uint32_t> list_start_;  ///< entries of cell c: [list_start_[c], [c + 1])
   std::vector<float> points_;              ///< x y z per entry
   std::vector<std::uint32_t> indices_;     ///< index into the given cloud, per entry
   std::vector<float> from_centre_;         ///< distance of each entry to its cell's centre

@@ -41,8 +41,9 @@ class RbfSvmPredictor {
   /// SVM's variables), spread over OpenCV's threads as predict() does.
   std::vector<Answer> predict(const cv::Mat& samples) const;
 
-  /// The kernel values of one sample (as many values as the SVM's variables) against every
-  /// support vector, as OpenCV's calc_rbf leaves them: what the decisions are summed from.
+  /// The kernel values of one sample (the SVM's variables, as floats) against the support
+  /// vectors, one per support vector, as OpenCV's calc_rbf leaves them: what the decisions are
+  /// summed from.
   std::vector<float> kernelRow(const float* sample) const;
 
  private:

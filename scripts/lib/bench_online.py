@@ -51,6 +51,8 @@ def main():
     parser.add_argument("--methods", default="svm,knn,icp,ndt")
     parser.add_argument("--track-vote", choices=("true", "false"), default="true",
                         help="online.launch's track_vote (default %(default)s)")
+    parser.add_argument("--threads", type=int, default=None,
+                        help="online.launch's threads:= (default: config/online.yaml's)")
     parser.add_argument("--objects", type=int, default=0,
                         help="repeat each frame's boxes until it holds at least N (a crowded "
                              "frame; the same clouds, so each copy costs what its box does)")
@@ -81,7 +83,8 @@ def main():
                         f"models:={models_of(args.evaluation, method)}",
                         f"class_models:={class_models}", "rviz:=false",
                         f"rate:={args.rate}", f"track_vote:={args.track_vote}",
-                        "exit_when_done:=true"],
+                        "exit_when_done:=true"]
+                       + ([f"threads:={args.threads}"] if args.threads is not None else []),
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(1.0)
         monitor.close()

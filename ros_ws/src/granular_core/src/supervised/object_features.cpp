@@ -49,7 +49,9 @@ class CellIndex {
     lists_ = sortIntoCells(cell_of, static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
   }
 
-  // The cells overlapping the box [centre - half, centre + half].
+  // The cells overlapping the box [centre - half, centre + half], clamped to the grid here
+  // (forEachCell would clamp them too) so that two queries over the same cells compare equal
+  // and share one gather.
   Box cellsNear(const Eigen::Vector3f& centre, const Eigen::Vector3f& half) const {
     const Eigen::Vector3i low = coordinates(centre - half);
     const Eigen::Vector3i high = coordinates(centre + half);

@@ -61,10 +61,6 @@ class CellBits {
   }
   void set(std::uint32_t cell) { words_[wordOf(cell)] |= bitOf(cell); }
   void clear(std::uint32_t cell) { words_[wordOf(cell)] &= ~bitOf(cell); }
-  bool test(int row, int col) const {
-    return (words_[static_cast<std::size_t>(row) * per_row_ + static_cast<std::size_t>(col) / 64] >>
-            (col % 64)) & 1u;
-  }
   // visit(col) for each set cell of `row` in columns [first, last], ascending.
   template <typename Visit>
   void forEachSet(int row, int first, int last, Visit&& visit) const {
@@ -174,6 +170,47 @@ std::vector<std::vector<std::uint32_t>> groupsOf(Components& components, std::si
     groups[static_cast<std::size_t>(group_of_root[root])].push_back(place);
   }
   return groups;
+}
+
+// Per cell of a segment (`cells`, places in `occupied`, whose grid cells lie in rows
+// least_row .. most_row of a grid `side` cells wide), whether it is enclosed: the segment has
+// cells in all four open quadrants around it (up and right, up and left, down and right, down
+// and left). The cells are half-open, so every point of a cell up and to the right lies
+// strictly above and to the right of each point of this one, and likewise for the others: in
+// every direction some point of the segment lies strictly farther than any of this cell's,
+// none of which can be a corner of the footprint's hull, which the other cells' points give
+// alone, the same. On a bush or a near car most cells are enclosed.
+std::vector<bool> enclosedCells(const std::vector<std::uint32_t>& cells,
+                                const std::vector<std::uint32_t>& occupied, int side,
+                                int least_row, int most_row) {
+  const auto rows = static_cast<std::size_t>(most_row - least_row + 1);
+  // Per row (from least_row): its cells' least and most column, then the least and most
+  // column of the rows above it and of the rows below it.
+  std::vector<int> row_least(rows, side), row_most(rows, -1);
+  for (const std::uint32_t k : cells) {
+    const std::size_t row = occupied[k] / static_cast<std::uint32_t>(side) - least_row;
+    const int col = static_cast<int>(occupied[k] % static_cast<std::uint32_t>(side));
+    row_least[row] = std::min(row_least[row], col);
+    row_most[row] = std::max(row_most[row], col);
+  }
+  std::vector<int> above_least(rows, side), above_most(rows, -1);
+  for (std::size_t row = rows - 1; row-- > 0;) {
+    above_least[row] = std::min(above_least[row + 1], row_least[row + 1]);
+    above_most[row] = std::max(above_most[row + 1], row_most[row + 1]);
+  }
+  std::vector<int> below_least(rows, side), below_most(rows, -1);
+  for (std::size_t row = 1; row < rows; ++row) {
+    below_least[row] = std::min(below_least[row - 1], row_least[row - 1]);
+    below_most[row] = std::max(below_most[row - 1], row_most[row - 1]);
+  }
+  std::vector<bool> enclosed(cells.size());
+  for (std::size_t j = 0; j < cells.size(); ++j) {
+    const std::size_t row = occupied[cells[j]] / static_cast<std::uint32_t>(side) - least_row;
+    const int col = static_cast<int>(occupied[cells[j]] % static_cast<std::uint32_t>(side));
+    enclosed[j] = above_least[row] < col && above_most[row] > col && below_least[row] < col &&
+                  below_most[row] > col;
+  }
+  return enclosed;
 }
 
 // What the gates look at, for one segment.
@@ -398,26 +435,6 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   std::iota(all_cells.begin(), all_cells.end(), 0u);
   Components components(occupied.size());
   joinNeighbours(all_cells, components);
-  // A cell whose four diagonal neighbours are all occupied holds no corner of its segment's
-  // footprint: the cells are half-open, so every point of the cell up and to the right lies
-  // strictly above and to the right of each of its points, and likewise for the other three
-  // quadrants; no direction has one of its points extreme. The footprint's hull is taken over
-  // the other cells' points only (on a near car most cells are inner), with the same result.
-  // innerCells: per cell of `cells` (the only cells whose bit is set), whether it is inner.
-  const auto innerCells = [&](const std::vector<std::uint32_t>& cells) {
-    std::vector<bool> inner(cells.size(), false);
-    for (std::size_t j = 0; j < cells.size(); ++j) {
-      const int row = static_cast<int>(occupied[cells[j]] / grid.side);
-      const int col = static_cast<int>(occupied[cells[j]] % grid.side);
-      if (row == 0 || col == 0 || row == grid.side - 1 || col == grid.side - 1) {
-        continue;
-      }
-      inner[j] = held.test(row - 1, col - 1) && held.test(row - 1, col + 1) &&
-                 held.test(row + 1, col - 1) && held.test(row + 1, col + 1);
-    }
-    return inner;
-  };
-  const std::vector<bool> inner = innerCells(all_cells);  // all_cells[k] == k
   for (const std::uint32_t cell : occupied) {
     slot_[cell] = -1;  // empty again for the next frame
     held.clear(cell);
@@ -430,12 +447,10 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // Cells (ascending) through the gates, cheapest first: most components are a few stray
   // points, and the footprint's hull and the covariance are only needed for the rest. A
   // segment that passes is added to the result; otherwise the first failing gate is returned.
-  // `cell_inner`: per cell, whether it is inner among `cells` (above): no corner of the
-  // footprint is there. `wall_direction` (rad): for a piece left by a peeled wall, the wall's,
-  // along which a thin piece is more of the wall.
+  // `wall_direction` (rad): for a piece left by a peeled wall, the wall's, along which a thin
+  // piece is more of the wall.
   const double max_spread = std::hypot(config.gates.max_length, config.gates.max_width);
   const auto gate = [&](const std::vector<std::uint32_t>& cells,
-                        const std::vector<bool>& cell_inner,
                         std::optional<double> wall_direction) -> const char* {
     const SegmentGates& gates = config.gates;
     std::size_t points = 0;
@@ -498,9 +513,11 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     if ((high - low).maxCoeff() > max_spread) {
       return "max_size";
     }
+    const std::vector<bool> enclosed =
+        enclosedCells(cells, occupied, grid.side, least_row, most_row);
     std::vector<Eigen::Vector2d> xy;
     for (std::size_t j = 0; j < cells.size(); ++j) {
-      if (cell_inner[j]) {
+      if (enclosed[j]) {
         continue;
       }
       const std::uint32_t k = cells[j];
@@ -697,23 +714,10 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     return peeled;
   };
 
-  // Per cell of a piece left by a peeled wall, whether it is inner among the piece's cells.
-  const auto innerAmong = [&](const std::vector<std::uint32_t>& cells) {
-    for (const std::uint32_t k : cells) {
-      held.set(occupied[k]);
-    }
-    std::vector<bool> piece_inner = innerCells(cells);
-    for (const std::uint32_t k : cells) {
-      held.clear(occupied[k]);
-    }
-    return piece_inner;
-  };
-
   // Each component, and what a wall peeled from it leaves, through the gates.
   const auto gateOrPeel = [&](const auto& self, const std::vector<std::uint32_t>& cells,
-                              const std::vector<bool>& cell_inner,
                               std::optional<double> wall_direction, int peeled) -> void {
-    const char* failed = gate(cells, cell_inner, wall_direction);
+    const char* failed = gate(cells, wall_direction);
     if (failed == nullptr) {
       return;
     }
@@ -724,18 +728,13 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       if (const std::optional<PeeledWall> wall = peelWall(cells)) {
         ++result.rejected["walls_peeled"];
         for (const std::vector<std::uint32_t>& piece : wall->pieces) {
-          self(self, piece, innerAmong(piece), wall->direction, peeled + 1);
+          self(self, piece, wall->direction, peeled + 1);
         }
       }
     }
   };
-  std::vector<bool> cell_inner;
   for (const std::vector<std::uint32_t>& cells : component_cells) {
-    cell_inner.resize(cells.size());
-    for (std::size_t j = 0; j < cells.size(); ++j) {
-      cell_inner[j] = inner[cells[j]];
-    }
-    gateOrPeel(gateOrPeel, cells, cell_inner, std::nullopt, 0);
+    gateOrPeel(gateOrPeel, cells, std::nullopt, 0);
   }
   return result;
 }

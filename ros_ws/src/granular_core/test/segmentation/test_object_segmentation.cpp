@@ -242,9 +242,9 @@ TEST(ObjectSegmentationTest, AFaceSeenAtASlantStaysOneSegment) {
 }
 
 TEST(ObjectSegmentationTest, AFilledFootprintGetsTheRectangleOfAllItsPoints) {
-  // Irregular heaps seen from above, sparse to dense (many of their cells are surrounded by
-  // occupied cells, whose points the footprint's hull skips): each box is the minimum-area
-  // rectangle of every one of its segment's points.
+  // Irregular heaps seen from above, sparse to dense (many of their cells have cells of the
+  // segment in all four quadrants around them, whose points the footprint's hull skips): each
+  // box is the minimum-area rectangle of every one of its segment's points.
   std::mt19937 random(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), fraction(0.0, 1.0);
   for (int heap = 0; heap < 40; ++heap) {

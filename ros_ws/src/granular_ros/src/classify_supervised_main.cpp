@@ -19,19 +19,21 @@ namespace {
 const char* const kUsage =
     "usage: classify_supervised --model MODEL.yml --objects FOLDER --out FILE.json [options]\n"
     "       classify_supervised --model MODEL.yml --registration FILE.json[,FILE.json...]\n"
-    "                           --out FILE.json [options]\n"
+    "                           [--objects FOLDER] --out FILE.json [options]\n"
     "\n"
     "Classifies each object PCD of an objects folder (<Class>-<stamp>-<index>.pcd, object\n"
     "frame) with a classifier written by train_classifier, computing the features with the\n"
     "settings stored in the model. An svm_fitness model classifies the objects of\n"
     "classify_registration results instead (--registration: the same methods, presets and\n"
-    "models, in the order it was trained with). Writes FILE.json: per object its true label\n"
+    "models, in the order it was trained with), with the objects' point histograms from\n"
+    "--objects when it was trained on them. Writes FILE.json: per object its true label\n"
     "(from the name) and the prediction; the wall time and the microseconds per object\n"
     "(features and prediction, on one core). Needs no roscore.\n"
     "\n"
     "options:\n"
     "  --model MODEL.yml  classifier to use\n"
-    "  --objects FOLDER   objects to classify (knn, svm, svm_esf)\n"
+    "  --objects FOLDER   objects to classify (knn, svm, svm_esf; svm_fitness: those its\n"
+    "                     --registration results are of, for its point histograms)\n"
     "  --registration FILE.json[,FILE.json...]\n"
     "                     svm_fitness: classify_registration results of the objects to classify\n"
     "  --out FILE.json    results file to write (replaced)\n"
@@ -67,9 +69,9 @@ int main(int argc, char** argv) {
       .value("--config", options.config_file)
       .threads("--threads", options.threads);
   const auto configure = [&] {
-    if (options.objects.empty() == options.registration.empty()) {
+    if (options.objects.empty() && options.registration.empty()) {
       throw granular_ros::UsageError(
-          "give --objects (knn, svm, svm_esf) or --registration (svm_fitness), one of them");
+          "give --objects (knn, svm, svm_esf) or --registration (svm_fitness)");
     }
     if (options.config_file) {
       expected = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
@@ -94,15 +96,20 @@ int main(int argc, char** argv) {
     if (from_registration == options.registration.empty()) {
       throw granular_ros::UsageError(
           options.model + " is a " + method + " classifier: give it " +
-          (from_registration ? "--registration results files" : "--objects") + ", not " +
-          (from_registration ? "--objects" : "--registration"));
+          (from_registration ? "--registration results files" : "--objects, not --registration"));
+    }
+    if (from_registration && classifier.takesPointHistograms() && options.objects.empty()) {
+      throw granular_ros::UsageError(
+          options.model + " also takes the objects' point histograms: give --objects, the "
+          "folder its --registration results are of");
     }
     granular::SupervisedRun run;
     if (from_registration) {
       const std::vector<std::string> files =
           granular_ros::splitList("--registration", options.registration);
       run = granular::classifyRegistrationResults(
-          classifier, std::vector<std::filesystem::path>(files.begin(), files.end()));
+          classifier, std::vector<std::filesystem::path>(files.begin(), files.end()),
+          options.objects, options.threads);
     } else {
       run = granular::classifyFolderSupervised(classifier, options.objects, options.threads,
                                                tool.progress(method, "objects"));

@@ -19,7 +19,7 @@ namespace {
 const char* const kUsage =
     "usage: train_classifier --objects FOLDER --method METHOD --out MODEL.yml [options]\n"
     "       train_classifier --registration FILE.json[,FILE.json...] --method svm_fitness\n"
-    "                        --out MODEL.yml [options]\n"
+    "                        --objects FOLDER --out MODEL.yml [options]\n"
     "\n"
     "Trains a supervised classifier on the object PCDs of a training objects folder\n"
     "(<Class>-<stamp>-<index>.pcd, object frame; the class comes from the name) and writes it,\n"
@@ -31,19 +31,22 @@ const char* const kUsage =
     "               and gamma by a cross-validated grid search on these objects only\n"
     "  svm_esf      the same nu-SVM on PCL's 640 ESF values\n"
     "  svm_fitness  the same nu-SVM on each object's fitness against every class model (log)\n"
-    "               and its point count: learns from classify_registration's results on the\n"
+    "               and its point count, from classify_registration's results on the\n"
     "               training objects (--registration, one file per method, e.g. ICP and NDT\n"
-    "               with the tuned preset) instead of reading the objects\n"
+    "               with the tuned preset), and on the objects' point-feature histograms,\n"
+    "               weighted by svm_fitness.histogram_weight (0: the results alone, no\n"
+    "               --objects needed)\n"
     "\n"
     "options:\n"
-    "  --objects FOLDER  training objects (knn, svm, svm_esf)\n"
+    "  --objects FOLDER  training objects (knn, svm, svm_esf; svm_fitness: those its\n"
+    "                    --registration results are of)\n"
     "  --registration FILE.json[,FILE.json...]\n"
     "                    svm_fitness: classify_registration results of the training objects;\n"
     "                    classify later with results of the same methods, presets and models,\n"
     "                    in the same order\n"
     "  --method METHOD   knn, svm, svm_esf or svm_fitness\n"
     "  --out MODEL.yml   model file to write (replaced)\n"
-    "  --config FILE     YAML file with knn, svm and histograms (the repository's\n"
+    "  --config FILE     YAML file with knn, svm, svm_fitness and histograms (the repository's\n"
     "                    config/supervised.yaml documents them)\n"
     "  --search-objects N\n"
     "                    svm methods: cross-validate the grid search on a stratified sample\n"
@@ -93,9 +96,10 @@ int main(int argc, char** argv) {
     }
     method = *parsed;
     const bool from_registration = method == granular::SupervisedMethod::kSvmFitness;
-    if (from_registration && (options.registration.empty() || !options.objects.empty())) {
+    if (from_registration && options.registration.empty()) {
       throw granular_ros::UsageError(
-          "--method svm_fitness learns from --registration results files, not --objects");
+          "--method svm_fitness learns from --registration results files (and the --objects "
+          "they are of)");
     }
     if (!from_registration && (options.objects.empty() || !options.registration.empty())) {
       throw granular_ros::UsageError("--method " + options.method +
@@ -110,13 +114,19 @@ int main(int argc, char** argv) {
     if (options.search_objects) {
       config.svm.search_objects = *options.search_objects;
     }
+    if (from_registration && config.svm_fitness.histogram_weight > 0.0 && options.objects.empty()) {
+      throw granular_ros::UsageError(
+          "--method svm_fitness also learns the objects' point histograms: give --objects, the "
+          "folder the --registration results are of (or svm_fitness.histogram_weight: 0)");
+    }
   };
   return tool.run(argc, argv, configure, [&] {
     const granular::TrainingRun run =
         options.registration.empty()
             ? granular::trainOnFolder(options.objects, method, config, options.threads,
                                       tool.progress("features", "objects"))
-            : granular::trainOnRegistration(registration, config);
+            : granular::trainOnRegistration(registration, config, options.objects,
+                                            options.threads);
     run.classifier.save(options.out);
     run.report(std::cout);
     std::cout << "model: " << options.out << '\n';

@@ -147,15 +147,23 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
       }
     }
     std::vector<std::size_t> classified;
-    std::vector<std::vector<float>> features;
     for (std::size_t i = 0; i < objects.size(); ++i) {
       if (!clouds[i].empty()) {
         classified.push_back(i);
-        features.push_back(registrationFitnessFeatures(fitness[i], clouds[i].size()));
       }
     }
-    const std::vector<SupervisedPrediction> answers =
-        impl_->supervised->predictWithScores(features);
+    // With the objects' point histograms when the classifier takes them: spread over the
+    // frame's threads, as registration is.
+    const SupervisedClassifier& classifier = *impl_->supervised;
+    std::vector<std::vector<float>> features(classified.size());
+    const auto count = static_cast<std::ptrdiff_t>(classified.size());
+#pragma omp parallel for num_threads(impl_->threads) schedule(dynamic, 4)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+      const std::size_t i = classified[static_cast<std::size_t>(k)];
+      features[static_cast<std::size_t>(k)] = classifier.fitnessFeatures(
+          registrationFitnessFeatures(fitness[i], clouds[i].size()), objects[i]);
+    }
+    const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
     for (std::size_t k = 0; k < classified.size(); ++k) {
       predictions[classified[k]] = {true, answers[k].label, answers[k].score};
     }

@@ -280,9 +280,44 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
   return features;
 }
 
+namespace {
+
+// svm_fitness's point histograms: each listed object's, from its PCD in `objects`, appended to
+// its features (and the time to its microseconds).
+void appendPointHistograms(FolderFeatures& folder, const fs::path& objects,
+                           const PointHistogramConfig& config, int threads) {
+  if (objects.empty()) {
+    throw std::invalid_argument(
+        "svm_fitness with point histograms (svm_fitness.histogram_weight above 0) needs the "
+        "objects the registration results are of: give their folder (--objects)");
+  }
+  if (!fs::is_directory(objects)) {
+    throw std::runtime_error(objects.string() + ": no such objects folder");
+  }
+  forEachObject(
+      folder.files.size(), threads,
+      [&](std::size_t i) {
+        const Cloud object = readPcd(objects / folder.files[i]);
+        const auto start = Clock::now();
+        const std::vector<float> histogram = pointHistogramFeatures(object, config);
+        folder.features[i].insert(folder.features[i].end(), histogram.begin(), histogram.end());
+        folder.microseconds[i] += microsecondsSince(start);
+      },
+      {});
+}
+
+}  // namespace
+
 TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
-                                const SupervisedConfig& config) {
-  const RegistrationFeatures features = readRegistrationFeatures(results);
+                                const SupervisedConfig& config, const fs::path& objects,
+                                int threads) {
+  validate(config);
+  RegistrationFeatures features = readRegistrationFeatures(results);
+  if (config.svm_fitness.histogram_weight > 0.0) {
+    appendPointHistograms(features.folder, objects, config.histograms, threads);
+    const std::vector<std::string> names = pointHistogramFeatureNames(config.histograms);
+    features.origin.names.insert(features.origin.names.end(), names.begin(), names.end());
+  }
   TrainingSummary summary;
   SupervisedClassifier classifier =
       SupervisedClassifier::train(SupervisedMethod::kSvmFitness, config, features.folder.features,
@@ -291,14 +326,18 @@ TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
 }
 
 SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier,
-                                          const std::vector<fs::path>& results) {
+                                          const std::vector<fs::path>& results,
+                                          const fs::path& objects, int threads) {
   if (featureKindOf(classifier.method()) != FeatureKind::kRegistrationFitness) {
     throw std::invalid_argument(std::string(supervisedMethodName(classifier.method())) +
                                 " classifies object clouds, not registration results");
   }
   const auto start = Clock::now();
-  const RegistrationFeatures features = readRegistrationFeatures(results);
+  RegistrationFeatures features = readRegistrationFeatures(results);
   requireSameSources(classifier.featureOrigin().source, features.origin.source, results);
+  if (classifier.takesPointHistograms()) {
+    appendPointHistograms(features.folder, objects, classifier.config().histograms, threads);
+  }
   SupervisedRun run;
   run.method = classifier.method();
   run.files = features.folder.files;

@@ -359,6 +359,14 @@ std::vector<float> objectFeatures(const Cloud& object, FeatureKind kind,
   throw std::invalid_argument("unknown feature kind");
 }
 
+std::vector<std::string> pointHistogramFeatureNames(const PointHistogramConfig& config) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < featureSize(FeatureKind::kPointHistograms, config); ++i) {
+    names.push_back("point_histograms:" + std::to_string(i));
+  }
+  return names;
+}
+
 std::vector<float> registrationFitnessFeatures(
     const std::vector<std::vector<std::optional<double>>>& fitness, std::size_t points) {
   std::vector<float> features;

@@ -264,6 +264,23 @@ const std::vector<std::string>& SupervisedClassifier::labels() const { return im
 const TrainingSummary& SupervisedClassifier::training() const { return impl_->training; }
 const FeatureOrigin& SupervisedClassifier::featureOrigin() const { return impl_->origin; }
 
+bool SupervisedClassifier::takesPointHistograms() const {
+  const std::vector<std::string>& names = impl_->origin.names;
+  const std::vector<std::string> histogram = pointHistogramFeatureNames(impl_->config.histograms);
+  return featureKindOf(impl_->method) == FeatureKind::kRegistrationFitness &&
+         names.size() > histogram.size() &&
+         std::equal(histogram.begin(), histogram.end(), names.end() - histogram.size());
+}
+
+std::vector<float> SupervisedClassifier::fitnessFeatures(std::vector<float> fitness,
+                                                         const Cloud& object) const {
+  if (takesPointHistograms()) {
+    const std::vector<float> histogram = pointHistogramFeatures(object, impl_->config.histograms);
+    fitness.insert(fitness.end(), histogram.begin(), histogram.end());
+  }
+  return fitness;
+}
+
 std::vector<float> SupervisedClassifier::features(const Cloud& object) const {
   return objectFeatures(object, featureKindOf(impl_->method), impl_->config.histograms);
 }
@@ -366,6 +383,15 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
       }
       impl.scale[c] = spread > 1e-12 ? static_cast<float>(1.0 / spread) : 1.0f;
       samples.col(static_cast<int>(c)) = (column - impl.offset[c]) * impl.scale[c];
+    }
+  }
+  if (classifier.takesPointHistograms()) {
+    // svm_fitness's shape values, weighted after scaling; the weight stays in `scale`.
+    const float weight = static_cast<float>(config.svm_fitness.histogram_weight);
+    const std::size_t histogram = featureSize(FeatureKind::kPointHistograms, config.histograms);
+    for (std::size_t c = columns - histogram; c < columns; ++c) {
+      impl.scale[c] *= weight;
+      samples.col(static_cast<int>(c)) *= weight;
     }
   }
 

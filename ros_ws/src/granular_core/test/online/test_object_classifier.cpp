@@ -112,12 +112,14 @@ TEST_F(ClassifyFolderTest, OnlineSvmFitnessAnswersAsTheOfflineResults) {
         results.back(),
         classifyFolder(root_ / "models", root_ / "density", method, converging(), options));
   }
+  // With the objects' point histograms (the default), which the node computes itself.
   SupervisedConfig config;
   config.svm.refinements = 0;
   const fs::path model = root_ / "svm_fitness.yml";
-  trainOnRegistration(results, config).classifier.save(model);
+  trainOnRegistration(results, config, root_ / "density").classifier.save(model);
+  ASSERT_TRUE(SupervisedClassifier::load(model).takesPointHistograms());
   const SupervisedRun offline =
-      classifyRegistrationResults(SupervisedClassifier::load(model), results);
+      classifyRegistrationResults(SupervisedClassifier::load(model), results, root_ / "density");
 
   std::vector<std::string> presets_asked;
   const ObjectClassifier online = ObjectClassifier::fitness(

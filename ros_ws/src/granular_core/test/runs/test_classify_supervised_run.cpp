@@ -1,5 +1,5 @@
-// svm_fitness from classify_registration's results files: trained, saved, loaded, and refused
-// where the results came from other registrations.
+// svm_fitness from classify_registration's results files (and its objects' point histograms):
+// trained, saved, loaded, and refused where the results came from other registrations.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "granular_core/dataset/object_names.h"
+#include "granular_core/dataset/pcd_io.h"
 #include "granular_core/runs/classify_supervised_run.h"
 #include "support/temporary_folder.h"
 
@@ -98,6 +100,7 @@ TEST_F(FitnessProfileTest, LearnsWhatTheLowestFitnessGetsWrong) {
 
   SupervisedConfig config;
   config.svm.refinements = 1;
+  config.svm_fitness.histogram_weight = 0.0;  // the fitness alone: no objects to read
   const TrainingRun training =
       trainOnRegistration({results("train_icp.json", "icp", train_, 1.0),
                            results("train_ndt.json", "ndt", train_, 3.0)},
@@ -129,6 +132,7 @@ TEST_F(FitnessProfileTest, LearnsWhatTheLowestFitnessGetsWrong) {
 TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
   SupervisedConfig config;
   config.svm.refinements = 0;
+  config.svm_fitness.histogram_weight = 0.0;
   const TrainingRun training = trainOnRegistration(
       {results("train_icp.json", "icp", train_, 1.0), results("train_ndt.json", "ndt", train_, 3.0)},
       config);
@@ -163,6 +167,76 @@ TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
   EXPECT_NE(refusal({icp, broken}).find(broken.string() + ": not a classify_registration"),
             std::string::npos)
       << refusal({icp, broken});
+}
+
+// Points on a car-sized slab (a "Sedan") or in a ball (a "Hatchback"), 300 of them.
+Cloud shapeOf(const std::string& label, std::mt19937& random) {
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  Cloud cloud;
+  while (cloud.size() < 300) {
+    const float x = unit(random), y = unit(random), z = unit(random);
+    if (label == "Sedan") {
+      cloud.push_back(PointXYZIT(2.2f * x, 0.8f * y, 0.7f + 0.05f * z, 0, 0.0));
+    } else if (x * x + y * y + z * z <= 1.0f) {
+      cloud.push_back(PointXYZIT(0.8f * x, 0.8f * y, 0.8f + 0.8f * z, 0, 0.0));
+    }
+  }
+  return cloud;
+}
+
+TEST_F(FitnessProfileTest, PointHistogramsTellApartWhatTheFitnessCannot) {
+  // Every object fits both models alike and has as many points: the fitness values are the
+  // same for both classes, so alone they can only give every object one answer. The objects'
+  // shapes differ, and with the point histograms svm_fitness tells them apart.
+  std::mt19937 random(3);
+  for (auto* objects : {&train_, &test_}) {
+    const std::string folder = objects == &train_ ? "train" : "test";
+    fs::create_directories(root_ / folder);
+    for (Object& object : *objects) {
+      object.points = 300;
+      object.own = 0.01;
+      writePcdBinary(root_ / folder / object.file, shapeOf(objectClass(object.file), random));
+    }
+  }
+  const auto alike = [&](const std::string& name, const std::vector<Object>& objects) {
+    nlohmann::json document = nlohmann::json::parse(read(results(name, "icp", objects, 1.0)));
+    for (nlohmann::json& object : document["objects"]) {
+      object["per_model"]["Hatchback"]["fitness"] = 0.01;
+      object["per_model"]["Sedan"]["fitness"] = 0.01;
+    }
+    return write(name, document.dump());
+  };
+  const fs::path train = alike("train_icp.json", train_);
+  const fs::path test = alike("test_icp.json", test_);
+  const auto right = [](const SupervisedRun& run) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < run.files.size(); ++i) {
+      count += run.predicted[i] == run.true_labels[i];
+    }
+    return count;
+  };
+
+  SupervisedConfig config;
+  config.svm.refinements = 0;
+  config.svm_fitness.histogram_weight = 0.0;
+  const TrainingRun fitness_only = trainOnRegistration({train}, config);
+  EXPECT_FALSE(fitness_only.classifier.takesPointHistograms());
+  EXPECT_EQ(right(classifyRegistrationResults(fitness_only.classifier, {test})),
+            test_.size() / 2);
+
+  config.svm_fitness.histogram_weight = 0.3;
+  EXPECT_THROW(trainOnRegistration({train}, config), std::invalid_argument);  // no objects
+  const fs::path model = root_ / "svm_fitness.yml";
+  trainOnRegistration({train}, config, root_ / "train").classifier.save(model);
+  const SupervisedClassifier loaded = SupervisedClassifier::load(model);
+  EXPECT_TRUE(loaded.takesPointHistograms());
+  const std::vector<std::string>& names = loaded.featureOrigin().names;
+  ASSERT_EQ(names.size(), 2u + 1u + 60u);
+  EXPECT_EQ(names[2], "log_points");
+  EXPECT_EQ(names[3], "point_histograms:0");
+  EXPECT_EQ(names.back(), "point_histograms:59");
+  EXPECT_EQ(right(classifyRegistrationResults(loaded, {test}, root_ / "test")), test_.size());
+  EXPECT_THROW(classifyRegistrationResults(loaded, {test}), std::invalid_argument);
 }
 
 TEST_F(FitnessProfileTest, FeaturesAreLogFitnessAndLogPoints) {

@@ -85,15 +85,23 @@ struct RegistrationFeatures {
 /// no objects, or lists other objects (or in another order) than the first.
 RegistrationFeatures readRegistrationFeatures(const std::vector<std::filesystem::path>& results);
 
-/// Trains svm_fitness on the registration results of a training objects folder.
+/// Trains svm_fitness on the registration results of a training objects folder; with
+/// config.svm_fitness.histogram_weight above 0 also on the point histograms of its objects,
+/// read from `objects` (that folder) over `threads` (0: every core). Throws
+/// std::invalid_argument when the histograms are asked for and `objects` is empty.
 TrainingRun trainOnRegistration(const std::vector<std::filesystem::path>& results,
-                                const SupervisedConfig& config);
+                                const SupervisedConfig& config,
+                                const std::filesystem::path& objects = {}, int threads = 0);
 
-/// Classifies the objects of registration results files with an svm_fitness `classifier`.
-/// Throws std::runtime_error when the files do not come from the methods, parameters and models
-/// (in the same order) the classifier was trained on. Warnings as classifyFolderSupervised.
+/// Classifies the objects of registration results files with an svm_fitness `classifier`
+/// (and, when it takes point histograms, their PCDs in `objects`). Throws std::runtime_error
+/// when the files do not come from the methods, parameters and models (in the same order) the
+/// classifier was trained on, std::invalid_argument when the classifier takes histograms and
+/// `objects` is empty. Warnings as classifyFolderSupervised.
 SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier,
-                                          const std::vector<std::filesystem::path>& results);
+                                          const std::vector<std::filesystem::path>& results,
+                                          const std::filesystem::path& objects = {},
+                                          int threads = 0);
 
 /// Writes `run` as JSON, the records make_report reads:
 ///   {"method", "primary": "label", "labels": [...], "seconds", "seconds_to_train",

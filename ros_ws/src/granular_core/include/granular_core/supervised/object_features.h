@@ -131,6 +131,10 @@ std::vector<float> meanStdFeatures(const Cloud& object);
 /// Paper III: the 4 + (3 + slices) x bins values described at PointHistogramConfig.
 std::vector<float> pointHistogramFeatures(const Cloud& object, const PointHistogramConfig& config);
 
+/// Names of the point histogram values when they follow another classifier's features
+/// (svm_fitness): "point_histograms:0" to "point_histograms:<featureSize - 1>".
+std::vector<std::string> pointHistogramFeatureNames(const PointHistogramConfig& config);
+
 /// A pair's fitness (m^2) when registration gave none (it failed, or the object had too few
 /// points): worse than any registered object's, so the pair looks like a bad match.
 constexpr double kUnregisteredFitness = 100.0;

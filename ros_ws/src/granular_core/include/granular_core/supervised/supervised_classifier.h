@@ -90,16 +90,32 @@ struct SvmConfig {
   }
 };
 
+/// svm_fitness's features beside the registration fitness: the object's point-feature
+/// histograms (the svm's 60 values, computed with `histograms`), each scaled to [0, 1] over the
+/// training set as every SVM feature is, then multiplied by `histogram_weight`, so that the
+/// shape they describe moves the RBF kernel's distances without drowning the 15 fitness values.
+/// 0: the fitness values alone (and no objects folder needed).
+struct SvmFitnessConfig {
+  double histogram_weight = 0.3;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    visit("histogram_weight", self.histogram_weight, config::nonNegative());
+  }
+};
+
 /// Every tunable of the supervised classifiers.
 struct SupervisedConfig {
   KnnConfig knn;
   SvmConfig svm;
+  SvmFitnessConfig svm_fitness;
   PointHistogramConfig histograms;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     visit("knn", self.knn);
     visit("svm", self.svm);
+    visit("svm_fitness", self.svm_fitness);
     visit("histograms", self.histograms);
   }
 };
@@ -165,6 +181,13 @@ class SupervisedClassifier {
   const TrainingSummary& training() const;
   /// svm_fitness: the names and source of its features; empty for the others.
   const FeatureOrigin& featureOrigin() const;
+  /// svm_fitness: whether its features end with the object's point histograms
+  /// (pointHistogramFeatureNames), which fitnessFeatures() appends.
+  bool takesPointHistograms() const;
+  /// svm_fitness: the feature vector of an object from its registration fitness features
+  /// (registrationFitnessFeatures) and, when the classifier takes them, its cloud's point
+  /// histograms (`object` in its own frame; unused otherwise).
+  std::vector<float> fitnessFeatures(std::vector<float> fitness, const Cloud& object) const;
 
   /// The feature vector of an object, as this classifier's configuration computes it. Throws
   /// std::invalid_argument for svm_fitness, whose features come from registration.

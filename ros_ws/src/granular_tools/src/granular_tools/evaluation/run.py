@@ -66,7 +66,8 @@ def train_and_classify(method, train_objects, test_run, classifiers, results, co
 def train_and_classify_fitness(fitness_from, models, train_objects, test_run, classifiers,
                                results, config_file, registration_config):
     """svm_fitness: the train drive's objects registered with each method it learns from, the
-    SVM trained on those results, then every test set from the test drive's own results."""
+    SVM trained on those results and the objects' point histograms, then every test set from
+    the test drive's own results and objects."""
     training = os.path.join(classifiers, "svm_fitness_training")
     os.makedirs(training, exist_ok=True)
     train_results = []
@@ -78,7 +79,8 @@ def train_and_classify_fitness(fitness_from, models, train_objects, test_run, cl
         classify(method, models, train_objects, train_results[-1], preset, registration_config)
     model = os.path.join(classifiers, "svm_fitness.yml")
     command = ["rosrun", "granular_ros", "train_classifier", "--method", "svm_fitness",
-               "--registration", ",".join(train_results), "--out", model]
+               "--registration", ",".join(train_results), "--objects", train_objects,
+               "--out", model]
     command += ["--config", config_file] if config_file else []
     print("run_evaluation: training svm_fitness", flush=True)
     run_tool(command, "train_classifier --method svm_fitness")
@@ -89,6 +91,7 @@ def train_and_classify_fitness(fitness_from, models, train_objects, test_run, cl
         test_results = [os.path.join(results, name, f"N{threshold}.json") for name in fitness_from]
         run_tool(["rosrun", "granular_ros", "classify_supervised", "--model", model,
                   "--registration", ",".join(test_results),
+                  "--objects", test_run.objects_of(threshold),
                   "--out", os.path.join(folder, f"N{threshold}.json")],
                  "classify_supervised (svm_fitness)")
 

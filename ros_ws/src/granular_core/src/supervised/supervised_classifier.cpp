@@ -208,12 +208,27 @@ std::string featureConfigDifference(SupervisedMethod method, const PointHistogra
   return "";
 }
 
+namespace {
+
+// Whether svm_fitness's feature names end with the point histograms' (its last values).
+bool endsWithPointHistograms(SupervisedMethod method, const FeatureOrigin& origin,
+                             const PointHistogramConfig& config) {
+  const std::vector<std::string> histogram = pointHistogramFeatureNames(config);
+  return featureKindOf(method) == FeatureKind::kRegistrationFitness &&
+         origin.names.size() > histogram.size() &&
+         std::equal(histogram.begin(), histogram.end(), origin.names.end() - histogram.size());
+}
+
+}  // namespace
+
 struct SupervisedClassifier::Impl {
   SupervisedMethod method = SupervisedMethod::kKnn;
   SupervisedConfig config;
   std::vector<std::string> labels;
   TrainingSummary training;
   FeatureOrigin origin;
+  /// svm_fitness: whether its feature names end with the point histograms' (set with origin).
+  bool point_histograms = false;
   /// Each feature is used as (value - offset) * scale: standardised (kNN's option: offset the
   /// training mean, scale 1 / deviation) or, for the SVM, mapped to [0, 1] over the training
   /// set (offset the minimum, scale 1 / range), as libsvm's guide advises: a histogram bin that
@@ -264,13 +279,7 @@ const std::vector<std::string>& SupervisedClassifier::labels() const { return im
 const TrainingSummary& SupervisedClassifier::training() const { return impl_->training; }
 const FeatureOrigin& SupervisedClassifier::featureOrigin() const { return impl_->origin; }
 
-bool SupervisedClassifier::takesPointHistograms() const {
-  const std::vector<std::string>& names = impl_->origin.names;
-  const std::vector<std::string> histogram = pointHistogramFeatureNames(impl_->config.histograms);
-  return featureKindOf(impl_->method) == FeatureKind::kRegistrationFitness &&
-         names.size() > histogram.size() &&
-         std::equal(histogram.begin(), histogram.end(), names.end() - histogram.size());
-}
+bool SupervisedClassifier::takesPointHistograms() const { return impl_->point_histograms; }
 
 std::vector<float> SupervisedClassifier::fitnessFeatures(std::vector<float> fitness,
                                                          const Cloud& object) const {
@@ -349,6 +358,7 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
   impl.labels = labels;
   if (named) {
     impl.origin = origin;
+    impl.point_histograms = endsWithPointHistograms(method, origin, config.histograms);
   }
   std::sort(impl.labels.begin(), impl.labels.end());
   impl.labels.erase(std::unique(impl.labels.begin(), impl.labels.end()), impl.labels.end());
@@ -589,6 +599,7 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
         impl.origin.names.empty()) {
       throw fail("svm_fitness without the names of its features");
     }
+    impl.point_histograms = endsWithPointHistograms(impl.method, impl.origin, histograms);
     if (static_cast<int>(storage["feature_size"]) != static_cast<int>(impl.size())) {
       throw fail("its feature size " + std::to_string(static_cast<int>(storage["feature_size"])) +
                  " does not match its feature configuration (" + std::to_string(impl.size()) +

@@ -403,6 +403,14 @@ void TrainingRun::report(std::ostream& out) const {
                   summary.search_objects);
     out << line;
   }
+  if (classifier.method() == SupervisedMethod::kSvmFitness) {
+    std::snprintf(line, sizeof(line),
+                  classifier.takesPointHistograms()
+                      ? "; on the fitness and the objects' point histograms (weight %g)"
+                      : "; on the fitness alone",
+                  classifier.config().svm_fitness.histogram_weight);
+    out << line;
+  }
   out << '\n';
 }
 

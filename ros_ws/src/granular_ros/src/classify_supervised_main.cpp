@@ -81,8 +81,11 @@ int main(int argc, char** argv) {
     const granular::SupervisedClassifier classifier =
         granular::SupervisedClassifier::load(options.model);
     if (expected) {
+      // svm_fitness's point histograms, when it takes them, are computed as the svm's.
       const std::string difference = granular::featureConfigDifference(
-          classifier.method(), classifier.config().histograms, expected->histograms);
+          classifier.takesPointHistograms() ? granular::SupervisedMethod::kSvm
+                                            : classifier.method(),
+          classifier.config().histograms, expected->histograms);
       if (!difference.empty()) {
         throw granular_ros::UsageError(
             options.model + " was trained with other feature settings than " +

@@ -406,16 +406,21 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   };
   // A pair of cells joins when it lies within the larger of their two reaches (and, beyond
   // link_cells, close across the line of sight). The reach grows by at most one cell over a
-  // reach's distance, so scanning the rows and columns after each cell up to its reach plus one
-  // finds every pair once. `cells` are occupied cells (k) whose slot_ holds their place in
-  // `cells` (and whose bit is set: only theirs); `components` joins places.
+  // reach's distance, so scanning the rows and columns after each cell up to the longest reach
+  // of a cell within its own reach plus one finds every pair once: its reach plus one only
+  // where that crosses a step of the reach (beyond link_cells), its own reach elsewhere.
+  // `cells` are occupied cells (k) whose slot_ holds their place in `cells` (and whose bit is
+  // set: only theirs); `components` joins places.
   const auto joinNeighbours = [&](const std::vector<std::uint32_t>& cells,
                                   Components& components) {
     for (std::size_t j = 0; j < cells.size(); ++j) {
       const std::uint32_t k = cells[j];
       const int row = static_cast<int>(occupied[k] / grid.side);
       const int col = static_cast<int>(occupied[k] % grid.side);
-      const int window = link[k] + 1;
+      // A cell l scanned from here lies at most (link[k] + 1) cells' diagonals farther away.
+      const double farthest = range[k] + (link[k] + 1) * config.cell_size * M_SQRT2 + 1e-6;
+      const int window =
+          std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * farthest)));
       for (int r = row; r <= std::min(row + window, grid.side - 1); ++r) {
         const int first_col = r == row ? col + 1 : std::max(col - window, 0);
         const std::int32_t* slots = slot_.data() + static_cast<std::size_t>(r) * grid.side;

@@ -213,6 +213,34 @@ std::size_t segmentsOf(const Cloud& cloud, const ObjectSegmentationConfig& confi
   return segmentObjects(cloud, roadGround(), config).segments.size();
 }
 
+TEST(ObjectSegmentationTest, ACellJoinsTheFartherCellWhoseLongerReachCoversThem) {
+  // Two posts on the line of sight, three cells apart, either side of the range where the
+  // link's reach steps from 2 cells to 3 (HDL-64E defaults: 3.3 returns' spacing, 0.176 deg,
+  // 0.15 m cells: 29.6 m). The nearer one's reach (2) falls short, the farther one's (3)
+  // covers the pair: one segment, however the grid is scanned.
+  ObjectSegmentationConfig config;
+  const double reach_per_m = config.link_range_steps * config.azimuth_step_deg * M_PI / 180.0 /
+                             config.cell_size;
+  // Cell centres: the grid's cells start at -max_range.
+  const auto centre = [&](double at) {
+    return -config.max_range +
+           (std::floor((at + config.max_range) / config.cell_size) + 0.5) * config.cell_size;
+  };
+  const double x = centre(0.0), nearer = centre(29.55), farther = nearer + 3 * config.cell_size;
+  ASSERT_EQ(std::ceil(reach_per_m * std::hypot(x, nearer)), 2.0);
+  ASSERT_EQ(std::ceil(reach_per_m * std::hypot(x, farther)), 3.0);
+  Cloud cloud = road();
+  for (const double y : {nearer, farther}) {
+    for (double h = 0.3; h <= 1.4; h += 0.1) {
+      cloud.push_back(PointXYZIT(static_cast<float>(x), static_cast<float>(y),
+                                 static_cast<float>(-kSensorHeight + h), 0, 0.0));
+    }
+  }
+  EXPECT_EQ(segmentsOf(cloud, config), 1u);
+  config.link_range_steps *= 0.9;  // both reaches 2 cells: two posts
+  EXPECT_EQ(segmentsOf(cloud, config), 2u);
+}
+
 TEST(ObjectSegmentationTest, FarCarsSideBySideOnASparseLidarAreTwoSegments) {
   // The simulator's LiDAR, 1 deg between returns: the rears of two cars 30 m ahead, two
   // returns' spacing (1.05 m) between them across the line of sight.

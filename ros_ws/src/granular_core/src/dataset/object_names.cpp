@@ -107,11 +107,15 @@ std::string modelClass(const fs::path& file) {
   return decodeLabel(file.stem().string()).value_or("");
 }
 
-std::map<std::string, std::vector<fs::path>> listObjectFiles(const fs::path& folder,
-                                                             std::vector<std::string>* unnamed) {
+void requireObjectsFolder(const fs::path& folder) {
   if (!fs::is_directory(folder)) {
     throw std::runtime_error(folder.string() + ": no such objects folder");
   }
+}
+
+std::map<std::string, std::vector<fs::path>> listObjectFiles(const fs::path& folder,
+                                                             std::vector<std::string>* unnamed) {
+  requireObjectsFolder(folder);
   std::map<std::string, std::vector<fs::path>> files;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();

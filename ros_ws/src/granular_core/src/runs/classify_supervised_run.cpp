@@ -291,9 +291,7 @@ void appendPointHistograms(FolderFeatures& folder, const fs::path& objects,
         "svm_fitness with point histograms (svm_fitness.histogram_weight above 0) needs the "
         "objects the registration results are of: give their folder (--objects)");
   }
-  if (!fs::is_directory(objects)) {
-    throw std::runtime_error(objects.string() + ": no such objects folder");
-  }
+  requireObjectsFolder(objects);
   forEachObject(
       folder.files.size(), threads,
       [&](std::size_t i) {
@@ -404,12 +402,14 @@ void TrainingRun::report(std::ostream& out) const {
     out << line;
   }
   if (classifier.method() == SupervisedMethod::kSvmFitness) {
-    std::snprintf(line, sizeof(line),
-                  classifier.takesPointHistograms()
-                      ? "; on the fitness and the objects' point histograms (weight %g)"
-                      : "; on the fitness alone",
-                  classifier.config().svm_fitness.histogram_weight);
-    out << line;
+    if (classifier.takesPointHistograms()) {
+      std::snprintf(line, sizeof(line),
+                    "; on the fitness and the objects' point histograms (weight %g)",
+                    classifier.config().svm_fitness.histogram_weight);
+      out << line;
+    } else {
+      out << "; on the fitness alone";
+    }
   }
   out << '\n';
 }

@@ -40,6 +40,9 @@ std::string modelFileName(const std::string& label);
 /// The label of a class model file, decoded; empty when the name could not be modelFileName's.
 std::string modelClass(const std::filesystem::path& file);
 
+/// Throws std::runtime_error "<folder>: no such objects folder" when `folder` is not a folder.
+void requireObjectsFolder(const std::filesystem::path& folder);
+
 /// The object PCDs of an objects folder by class, each list sorted by file name. Hidden files
 /// and other extensions are ignored; a PCD whose name has no class goes to `unnamed`, when
 /// given. Throws std::runtime_error when `folder` is not a folder.

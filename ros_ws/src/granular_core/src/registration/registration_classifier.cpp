@@ -1,7 +1,9 @@
 #include "granular_core/registration/registration_classifier.h"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -30,7 +32,7 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   }
   impl_->method = method;
   impl_->config = config;
-  for (LabelledModel& model : models) {
+  for (const LabelledModel& model : models) {
     if (model.label.empty()) {
       throw std::invalid_argument("a class model has an empty label");
     }
@@ -42,11 +44,34 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
       throw std::invalid_argument("the model of class '" + model.label + "' has no points");
     }
     impl_->labels.push_back(model.label);
-    const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(model.cloud)));
-    impl_->models.clouds.push_back(cloud);
-    NearestTree::Ptr tree(new NearestTree);
-    tree->setInputCloud(cloud);
-    impl_->models.trees.push_back(tree);
+  }
+  // The ICP methods search within their correspondence bound: each tree gets it before its
+  // cloud, so that only the grid for it is built. The models are built on every core.
+  const double bound = method == RegistrationMethod::kIcp     ? config.icp.max_correspondence_distance
+                       : method == RegistrationMethod::kIcpNl ? config.icp_nl.max_correspondence_distance
+                                                              : std::numeric_limits<double>::infinity();
+  const long count = static_cast<long>(models.size());
+  impl_->models.clouds.resize(models.size());
+  impl_->models.trees.resize(models.size());
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long m = 0; m < count; ++m) {
+    try {
+      const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
+      NearestTree::Ptr tree(new NearestTree);
+      if (std::isfinite(bound)) {
+        tree->setCorrespondenceBound(bound);
+      }
+      tree->setInputCloud(cloud);
+      impl_->models.clouds[m] = cloud;
+      impl_->models.trees[m] = tree;
+    } catch (...) {
+#pragma omp critical(granular_model_error)
+      error = error ? error : std::current_exception();
+    }
+  }
+  if (error) {
+    std::rethrow_exception(error);
   }
   switch (method) {
     case RegistrationMethod::kIcp:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "granular_core/search/grid_cells.h"
 #include "granular_core/search/nearest_points.h"
@@ -55,6 +56,8 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bou
   const std::size_t cells = static_cast<std::size_t>(size_[0]) * size_[1] * size_[2];
   std::vector<std::size_t> cell_of;  // per entry, entries in point order
   std::vector<std::uint32_t> point_of;
+  cell_of.reserve(27 * count);
+  point_of.reserve(27 * count);
   for (std::size_t i = 0; i < count; ++i) {
     int first[3], last[3];
     cellsNear(&xyz[3 * i], first, last);
@@ -65,30 +68,35 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bou
   }
   CellLists lists = sortIntoCells(cell_of, cells);
   list_start_ = std::move(lists.start);
-  // Each list nearest its cell's centre first, so that a query can stop early (nearest()).
-  std::vector<float> from_centre(lists.order.size());
+  // Each list nearest its cell's centre first, so that a query can stop early (nearest());
+  // equal distances keep the point order (the entries' order within a list).
+  std::vector<std::pair<float, std::uint32_t>> by_distance;
+  indices_.resize(lists.order.size());
+  points_.resize(3 * lists.order.size());
+  from_centre_.resize(lists.order.size());
   for (std::size_t c = 0; c < cells; ++c) {
+    const std::uint32_t begin = list_start_[c], end = list_start_[c + 1];
+    if (begin == end) {
+      continue;
+    }
     const float centre[3] = {
         origin_[0] + cell_ * (static_cast<float>(c % size_[0]) + 0.5f),
         origin_[1] + cell_ * (static_cast<float>(c / size_[0] % size_[1]) + 0.5f),
         origin_[2] + cell_ * (static_cast<float>(c / size_[0] / size_[1]) + 0.5f)};
-    const auto first = lists.order.begin() + list_start_[c];
-    const auto last = lists.order.begin() + list_start_[c + 1];
-    for (auto entry = first; entry != last; ++entry) {
-      from_centre[*entry] = std::sqrt(flannSquaredDistance(centre, &xyz[3 * point_of[*entry]]));
+    by_distance.clear();
+    for (std::uint32_t slot = begin; slot < end; ++slot) {
+      const std::uint32_t entry = lists.order[slot];
+      by_distance.emplace_back(
+          std::sqrt(flannSquaredDistance(centre, &xyz[3 * point_of[entry]])), entry);
     }
-    std::stable_sort(first, last, [&](std::uint32_t a, std::uint32_t b) {
-      return from_centre[a] < from_centre[b];
-    });
-  }
-  indices_.resize(lists.order.size());
-  points_.resize(3 * lists.order.size());
-  from_centre_.resize(lists.order.size());
-  for (std::size_t slot = 0; slot < lists.order.size(); ++slot) {
-    const std::uint32_t point = point_of[lists.order[slot]];
-    indices_[slot] = point;
-    from_centre_[slot] = from_centre[lists.order[slot]];
-    std::copy(&xyz[3 * point], &xyz[3 * point] + 3, &points_[3 * slot]);
+    std::sort(by_distance.begin(), by_distance.end());
+    for (std::uint32_t slot = begin; slot < end; ++slot) {
+      const auto& [distance, entry] = by_distance[slot - begin];
+      const std::uint32_t point = point_of[entry];
+      indices_[slot] = point;
+      from_centre_[slot] = distance;
+      std::copy(&xyz[3 * point], &xyz[3 * point] + 3, &points_[3 * slot]);
+    }
   }
 }
 

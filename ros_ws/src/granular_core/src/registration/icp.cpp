@@ -1,14 +1,11 @@
-// report 8.1: pcl::IterativeClosestPoint (SVD), reused per model and thread.
-#include <pcl/registration/icp.h>
-
-#include "icp_common.h"
+// report 8.1: ICP with PCL's SVD (Umeyama) step, PCL's loop written out (point_to_point_icp.h).
+#include "point_to_point_icp.h"
 
 namespace granular {
 
 std::unique_ptr<RegistrationMethodImpl> prepareIcp(const IcpClassifierConfig& config,
                                                    const PreparedModels& models) {
-  using Icp = icp_detail::ReusableIcp<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>;
-  return std::make_unique<icp_detail::IcpMethod<Icp>>(config, models);
+  return std::make_unique<icp_detail::PointToPointMethod<icp_detail::SvdStep>>(config, models);
 }
 
 }  // namespace granular

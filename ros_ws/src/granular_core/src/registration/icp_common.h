@@ -1,6 +1,6 @@
-// ICP and ICP-NL share everything but PCL's class: icp.cpp and icp_nl.cpp each instantiate
-// one of them (PCL's registration templates compile slowly; one per translation unit), and
-// reference.cpp both, for the report's loop.
+// What PCL's ICP and ICP-NL classes need to be reused and read as the report ran them
+// (reference.cpp, the report's loop), and the states they end in, which point_to_point_icp.h's
+// loop (icp.cpp, icp_nl.cpp) shares.
 #pragma once
 
 #include <memory>
@@ -15,20 +15,12 @@ namespace icp_detail {
 
 using Criteria = pcl::registration::DefaultConvergenceCriteria<float>;
 
-// PCL's ICP or ICP-NL with the two things PCL keeps protected that a reused object needs
-// (PCL 1.13's members; test_pcl_internals.cpp says so on an upgrade).
+// PCL's ICP or ICP-NL with the iteration count it keeps protected (PCL 1.13's member;
+// test_pcl_internals.cpp says so on an upgrade).
 template <typename Base>
-class ReusableIcp : public Base {
+class IcpWithIterations : public Base {
  public:
   int iterations() const { return this->nr_iterations_; }
-
-  // DefaultConvergenceCriteria keeps the previous run's mean squared error (and state) across
-  // align() calls, so the first iteration of the next object would compare against it; a
-  // fresh criteria object makes a reused ICP behave exactly like a new one.
-  void resetConvergenceCriteria() {
-    this->convergence_criteria_.reset(
-        new Criteria(this->nr_iterations_, this->transformation_, *this->correspondences_));
-  }
 };
 
 template <typename Registration>
@@ -73,52 +65,6 @@ PairResult alignIcp(Registration& icp, const ModelCloud::ConstPtr& source, Model
                                    : icp.getFitnessScore();
   return result;
 }
-
-// One thread's ICP objects, one per model, sharing the models' prebuilt trees.
-template <typename Registration>
-class IcpAligner : public ModelAligner {
- public:
-  IcpAligner(const IcpClassifierConfig& config, const PreparedModels& models)
-      : models_(models) {
-    for (std::size_t m = 0; m < models.clouds.size(); ++m) {
-      auto icp = std::make_unique<Registration>();
-      configure(*icp, config);
-      icp->setInputTarget(models.clouds[m]);
-      // true: never rebuild the tree (it is shared, and already built on this target).
-      icp->setSearchMethodTarget(models.trees[m], true);
-      icps_.push_back(std::move(icp));
-    }
-  }
-
-  PairResult align(const ModelCloud::ConstPtr& source, std::size_t model) override {
-    icps_[model]->resetConvergenceCriteria();
-    return alignIcp(*icps_[model], source, aligned_, models_.trees[model].get());
-  }
-
- private:
-  const PreparedModels& models_;
-  std::vector<std::unique_ptr<Registration>> icps_;
-  ModelCloud aligned_;
-};
-
-template <typename Registration>
-class IcpMethod : public RegistrationMethodImpl {
- public:
-  IcpMethod(const IcpClassifierConfig& config, const PreparedModels& models)
-      : config_(config), models_(models) {
-    for (const NearestTree::Ptr& tree : models.trees) {
-      tree->setCorrespondenceBound(config.max_correspondence_distance);
-    }
-  }
-
-  std::unique_ptr<ModelAligner> aligner() const override {
-    return std::make_unique<IcpAligner<Registration>>(config_, models_);
-  }
-
- private:
-  IcpClassifierConfig config_;
-  const PreparedModels& models_;
-};
 
 }  // namespace icp_detail
 }  // namespace granular

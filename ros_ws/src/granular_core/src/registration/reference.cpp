@@ -13,8 +13,8 @@ namespace granular {
 namespace {
 
 using Point = pcl::PointXYZ;
-using Icp = icp_detail::ReusableIcp<pcl::IterativeClosestPoint<Point, Point>>;
-using IcpNl = icp_detail::ReusableIcp<pcl::IterativeClosestPointNonLinear<Point, Point>>;
+using Icp = icp_detail::IcpWithIterations<pcl::IterativeClosestPoint<Point, Point>>;
+using IcpNl = icp_detail::IcpWithIterations<pcl::IterativeClosestPointNonLinear<Point, Point>>;
 using Ndt = pcl::NormalDistributionsTransform<Point, Point>;
 
 template <typename Registration>

@@ -72,13 +72,26 @@ int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices&
     return pcl::search::KdTree<pcl::PointXYZ>::nearestKSearch(point, k, k_indices,
                                                               k_sqr_distances);
   }
+  const Neighbour nearest = nearestWithinBound(point);
+  k_indices.assign(1, nearest.index);
+  k_sqr_distances.assign(1, nearest.squared);
+  return 1;
+}
+
+NearestTree::Neighbour NearestTree::nearestWithinBound(const pcl::PointXYZ& point) const {
+  Neighbour neighbour;
+  if (mapping_.empty()) {
+    return neighbour;
+  }
   const float query[3] = {point.x, point.y, point.z};
   const NearestGrid::Result nearest =
       bounded_ ? bounded_->nearest(query) : nearestWithin(query, correspondence_bound_);
-  k_indices.assign(1, nearest.found ? mapping_[nearest.index] : 0);
-  k_sqr_distances.assign(
-      1, nearest.found ? nearest.distance : std::numeric_limits<float>::infinity());
-  return 1;
+  if (nearest.found) {
+    neighbour.found = true;
+    neighbour.index = mapping_[nearest.index];
+    neighbour.squared = nearest.distance;
+  }
+  return neighbour;
 }
 
 double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const {

@@ -49,6 +49,18 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
                      std::vector<float>& k_sqr_distances) const override;
 
+  /// A model point, by its index in the cloud given, and its squared distance (m^2).
+  struct Neighbour {
+    bool found = false;
+    pcl::index_t index = 0;
+    float squared = std::numeric_limits<float>::infinity();
+  };
+
+  /// ICP's correspondence search: what nearestKSearch(point, 1, ...) answers, without its
+  /// two vectors. Not found: no model point within the correspondence bound (or no bound
+  /// set and no model point at all).
+  Neighbour nearestWithinBound(const pcl::PointXYZ& point) const;
+
   /// What PCL's Registration::getFitnessScore() gives for `source` aligned by `transform` on
   /// this model: the mean squared distance of each transformed point to its nearest model
   /// point (m^2); the largest double for an empty source or model.

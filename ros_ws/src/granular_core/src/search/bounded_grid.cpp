@@ -18,7 +18,7 @@ constexpr double kSlack = 1.0e-4;
 
 }  // namespace
 
-BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bound_(bound) {
+BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bound_(bound), root_bound_(std::sqrt(bound)) {
   if (count == 0) {
     list_start_.assign(1, 0);
     return;
@@ -116,14 +116,14 @@ NearestGrid::Result BoundedGrid::nearest(const float query[3]) const {
   // An entry lies at least its distance from the centre less the query's from it: once that
   // exceeds the best distance (widened for rounding), no later entry can be nearer.
   const float query_from_centre = std::sqrt(flannSquaredDistance(centre, query));
-  const auto stopAt = [&](float distance) {
-    return query_from_centre + std::sqrt(distance) * 1.0001f + 1.0e-5f;
+  const auto stopAt = [&](float root_distance) {
+    return query_from_centre + root_distance * 1.0001f + 1.0e-5f;
   };
-  float stop = stopAt(result.distance);
+  float stop = stopAt(root_bound_);
   for (std::uint32_t entry = list_start_[cell];
        entry < list_start_[cell + 1] && from_centre_[entry] <= stop; ++entry) {
     if (result.offer(indices_[entry], flannSquaredDistance(query, &points_[3 * entry]))) {
-      stop = stopAt(result.distance);
+      stop = stopAt(std::sqrt(result.distance));
     }
   }
   return result;

@@ -78,22 +78,6 @@ int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices&
   return 1;
 }
 
-NearestTree::Neighbour NearestTree::nearestWithinBound(const pcl::PointXYZ& point) const {
-  Neighbour neighbour;
-  if (mapping_.empty()) {
-    return neighbour;
-  }
-  const float query[3] = {point.x, point.y, point.z};
-  const NearestGrid::Result nearest =
-      bounded_ ? bounded_->nearest(query) : nearestWithin(query, correspondence_bound_);
-  if (nearest.found) {
-    neighbour.found = true;
-    neighbour.index = mapping_[nearest.index];
-    neighbour.squared = nearest.distance;
-  }
-  return neighbour;
-}
-
 double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const {
   if (mapping_.empty() || source.empty()) {
     return std::numeric_limits<double>::max();

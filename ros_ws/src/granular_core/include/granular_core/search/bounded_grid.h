@@ -30,6 +30,7 @@ class BoundedGrid {
 
  private:
   float bound_;
+  float root_bound_;  ///< sqrt(bound_), where a query's scan starts from
   float origin_[3] = {0.0f, 0.0f, 0.0f};
   float cell_ = 1.0f;
   int size_[3] = {0, 0, 0};

@@ -29,8 +29,10 @@ void forEachCell(const int low[3], const int high[3], const int size[3], Visit v
 /// not finite).
 inline bool cellOf(const float point[3], const float origin[3], float cell, const int size[3],
                    int coordinates[3]) {
+  // floor(offset) is in [0, size) exactly when offset is, and is then its truncation: no
+  // floor needed (on the baseline x86-64 it is a dozen instructions and a branch).
   for (int axis = 0; axis < 3; ++axis) {
-    const float offset = std::floor((point[axis] - origin[axis]) / cell);
+    const float offset = (point[axis] - origin[axis]) / cell;
     if (!(offset >= 0.0f && offset < static_cast<float>(size[axis]))) {
       return false;
     }

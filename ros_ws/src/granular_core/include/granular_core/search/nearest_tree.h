@@ -59,7 +59,21 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   /// ICP's correspondence search: what nearestKSearch(point, 1, ...) answers, without its
   /// two vectors. Not found: no model point within the correspondence bound (or no bound
   /// set and no model point at all).
-  Neighbour nearestWithinBound(const pcl::PointXYZ& point) const;
+  Neighbour nearestWithinBound(const pcl::PointXYZ& point) const {
+    Neighbour neighbour;
+    if (mapping_.empty()) {
+      return neighbour;
+    }
+    const float query[3] = {point.x, point.y, point.z};
+    const NearestGrid::Result nearest =
+        bounded_ ? bounded_->nearest(query) : nearestWithin(query, correspondence_bound_);
+    if (nearest.found) {
+      neighbour.found = true;
+      neighbour.index = mapping_[nearest.index];
+      neighbour.squared = nearest.distance;
+    }
+    return neighbour;
+  }
 
   /// What PCL's Registration::getFitnessScore() gives for `source` aligned by `transform` on
   /// this model: the mean squared distance of each transformed point to its nearest model

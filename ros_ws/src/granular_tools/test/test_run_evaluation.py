@@ -8,8 +8,8 @@ RUN_EVALUATION = hostile.tool("granular_tools", "run_evaluation")
 def test_svm_fitness_without_its_registrations_is_refused_before_anything_runs(tmp_path):
     bag = tmp_path / "drive.bag"
     bag.write_bytes(b"")
-    for extra, missing in ((["--methods", "icp"], "ndt_tuned"),
-                           (["--presets", "report"], "icp_tuned, ndt_tuned"),
+    for extra, missing in ((["--methods", "icp"], "ndt_tuned, icp_nl_tuned"),
+                           (["--presets", "report"], "icp_tuned, ndt_tuned, icp_nl_tuned"),
                            (["--fitness-from", "icp_nl_tuned", "--methods", "icp,ndt"],
                             "icp_nl_tuned")):
         result = hostile.run(RUN_EVALUATION + ["--train-bag", bag, "--test-bag", bag,

@@ -93,7 +93,7 @@ struct SvmConfig {
 /// svm_fitness's features beside the registration fitness: the object's point-feature
 /// histograms (the svm's 60 values, computed with `histograms`), each scaled to [0, 1] over the
 /// training set as every SVM feature is, then multiplied by `histogram_weight`, so that the
-/// shape they describe moves the RBF kernel's distances without drowning the 15 fitness values.
+/// shape they describe moves the RBF kernel's distances without drowning the fitness values.
 /// 0: the fitness values alone (and no objects folder needed).
 struct SvmFitnessConfig {
   double histogram_weight = 0.3;

@@ -10,7 +10,6 @@
 
 #include <cmath>
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include <pcl/common/eigen.h>

@@ -47,9 +47,12 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   }
   // The ICP methods search within their correspondence bound: each tree gets it before its
   // cloud, so that only the grid for it is built. The models are built on every core.
-  const double bound = method == RegistrationMethod::kIcp     ? config.icp.max_correspondence_distance
-                       : method == RegistrationMethod::kIcpNl ? config.icp_nl.max_correspondence_distance
-                                                              : std::numeric_limits<double>::infinity();
+  double bound = std::numeric_limits<double>::infinity();
+  if (method == RegistrationMethod::kIcp) {
+    bound = config.icp.max_correspondence_distance;
+  } else if (method == RegistrationMethod::kIcpNl) {
+    bound = config.icp_nl.max_correspondence_distance;
+  }
   const long count = static_cast<long>(models.size());
   impl_->models.clouds.resize(models.size());
   impl_->models.trees.resize(models.size());

@@ -18,7 +18,8 @@ constexpr double kSlack = 1.0e-4;
 
 }  // namespace
 
-BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound) : bound_(bound), root_bound_(std::sqrt(bound)) {
+BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound)
+    : bound_(bound), root_bound_(std::sqrt(bound)) {
   if (count == 0) {
     list_start_.assign(1, 0);
     return;

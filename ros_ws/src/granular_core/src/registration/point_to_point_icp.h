@@ -111,6 +111,8 @@ class PointToPointAligner : public ModelAligner {
       for (std::size_t i = 0; i < moved_.size(); ++i) {
         const pcl::PointXYZ& point = moved_[i];
         const NearestTree::Neighbour nearest = tree.nearestWithinBound(point);
+        // PCL's test: the tree's bound is the float just above the distance's square, so a
+        // point at that float itself is found and must still be dropped.
         if (!nearest.found || nearest.squared > max_squared) {
           continue;
         }

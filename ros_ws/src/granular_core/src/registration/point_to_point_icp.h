@@ -111,8 +111,8 @@ class PointToPointAligner : public ModelAligner {
       for (std::size_t i = 0; i < moved_.size(); ++i) {
         const pcl::PointXYZ& point = moved_[i];
         const NearestTree::Neighbour nearest = tree.nearestWithinBound(point);
-        // PCL's test: the tree's bound is the float just above the distance's square, so a
-        // point at that float itself is found and must still be dropped.
+        // PCL's test, in double: the tree finds points up to the smallest float at or above
+        // max_squared, which may lie just beyond it.
         if (!nearest.found || nearest.squared > max_squared) {
           continue;
         }

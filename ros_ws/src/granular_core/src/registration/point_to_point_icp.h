@@ -151,12 +151,10 @@ class PointToPointAligner : public ModelAligner {
 template <typename Step>
 class PointToPointMethod : public RegistrationMethodImpl {
  public:
+  // `models`' trees are bounded by config.max_correspondence_distance already
+  // (RegistrationClassifier sets it before their clouds, so that only that grid is built).
   PointToPointMethod(const IcpClassifierConfig& config, const PreparedModels& models)
-      : config_(config), models_(models) {
-    for (const NearestTree::Ptr& tree : models.trees) {
-      tree->setCorrespondenceBound(config.max_correspondence_distance);
-    }
-  }
+      : config_(config), models_(models) {}
 
   std::unique_ptr<ModelAligner> aligner() const override {
     return std::make_unique<PointToPointAligner<Step>>(config_, models_);

@@ -47,11 +47,7 @@ void NearestTree::setCorrespondenceBound(double max_distance) {
   if (static_cast<double>(bound) < limit) {
     bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
   }
-  bound = std::nextafter(bound, std::numeric_limits<float>::infinity());
-  if (bound == correspondence_bound_) {
-    return;  // its grid is built already
-  }
-  correspondence_bound_ = bound;
+  correspondence_bound_ = std::nextafter(bound, std::numeric_limits<float>::infinity());
   buildNeighbourGrid();
 }
 

@@ -80,7 +80,8 @@ struct PairResult {
 PairResult failedPair();
 
 /// The class models as every method sees them: each cloud, and its NearestTree (built once,
-/// shared read-only by every thread) for the correspondences and the fitness.
+/// shared read-only by every thread) for the correspondences and the fitness; for ICP and
+/// ICP-NL bounded by their maximum correspondence distance.
 struct PreparedModels {
   std::vector<ModelCloud::ConstPtr> clouds;
   std::vector<NearestTree::Ptr> trees;

@@ -43,7 +43,7 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   /// Single-neighbour queries beyond `max_distance` (m) then report no neighbour (an infinite
   /// distance), which PCL's correspondence estimation discards as it would the real one; a
   /// BoundedGrid of the model is built for them, so call it before any query (before
-  /// setInputCloud, and only that grid is built; again with the same bound, nothing is).
+  /// setInputCloud, and only that grid is built).
   void setCorrespondenceBound(double max_distance);
 
   int nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,

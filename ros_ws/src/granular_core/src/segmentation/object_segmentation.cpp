@@ -370,11 +370,14 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     start.push_back(static_cast<std::uint32_t>(order.size()));
   }
   // The highest return over each occupied cell: its candidates' and the overhangs above it.
+  // A cell whose candidates all lie below link_min_top is low.
   std::vector<float> top_of_cell(occupied.size(), 0.0f);
+  std::vector<bool> low(occupied.size());
   for (std::size_t k = 0; k < occupied.size(); ++k) {
     for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
       top_of_cell[k] = std::max(top_of_cell[k], heights[by_cell[c]]);
     }
+    low[k] = top_of_cell[k] < config.link_min_top;
   }
   for (const std::size_t i : overhangs) {
     if (const auto cell = grid.cellOf(cloud[i].x, cloud[i].y); cell && slot_[*cell] >= 0) {
@@ -409,10 +412,23 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // reach's distance, so scanning the rows and columns after each cell up to the longest reach
   // of a cell within its own reach plus one finds every pair once: its reach plus one only
   // where that crosses a step of the reach (beyond link_cells), its own reach elsewhere.
+  // A low cell (a kerb, a verge, the foot of a hedge, a car's underside) never links two
+  // taller ones: it joins only the nearest cell that is not low among those it would join (the
+  // first scanned on a tie), after those have joined each other; low cells with no such
+  // neighbour join each other (a kerb stays one piece).
   // `cells` are occupied cells (k) whose slot_ holds their place in `cells` (and whose bit is
   // set: only theirs); `components` joins places.
   const auto joinNeighbours = [&](const std::vector<std::uint32_t>& cells,
                                   Components& components) {
+    std::vector<std::int32_t> attach(cells.size(), -1);  // the place a low cell joins
+    std::vector<int> attach_apart(cells.size(), std::numeric_limits<int>::max());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> low_pairs;
+    const auto offer = [&](std::size_t low_place, std::int32_t place, int apart) {
+      if (apart < attach_apart[low_place]) {
+        attach_apart[low_place] = apart;
+        attach[low_place] = place;
+      }
+    };
     for (std::size_t j = 0; j < cells.size(); ++j) {
       const std::uint32_t k = cells[j];
       const int row = static_cast<int>(occupied[k] / grid.side);
@@ -430,9 +446,28 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
           const int apart = std::max(r - row, std::abs(c - col));
           if (apart <= config.link_cells ||
               (apart <= std::max(link[k], link[l]) && closeAcross(k, l))) {
-            components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
+            if (!low[k] && !low[l]) {
+              components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
+            } else if (!low[l]) {
+              offer(j, other, apart);
+            } else if (!low[k]) {
+              offer(static_cast<std::size_t>(other), static_cast<std::int32_t>(j), apart);
+            } else {
+              low_pairs.emplace_back(static_cast<std::uint32_t>(j),
+                                     static_cast<std::uint32_t>(other));
+            }
           }
         });
+      }
+    }
+    for (std::size_t j = 0; j < cells.size(); ++j) {
+      if (attach[j] >= 0) {
+        components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(attach[j]));
+      }
+    }
+    for (const auto& [a, b] : low_pairs) {
+      if (attach[a] < 0 && attach[b] < 0) {
+        components.join(a, b);
       }
     }
   };
@@ -667,12 +702,18 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
         first = b;
       }
     }
-    // A wall with something beside it: the run is much of the segment. Where it is not, the
-    // segment is a building or a row of trees, which holds no object to recover.
+    // A wall with something beside it: the run is much of the segment's standing cells (low
+    // ones, the verge at its foot, join whatever is nearest). Where it is not, the segment is a
+    // building or a row of trees, which holds no object to recover.
+    std::size_t standing_in_run = 0;
+    for (std::size_t b = run_first; b <= run_last && !band.empty(); ++b) {
+      standing_in_run += low[cells[band[b].second]] ? 0 : 1;
+    }
+    const auto standing =
+        std::count_if(cells.begin(), cells.end(), [&](std::uint32_t k) { return !low[k]; });
     if (band.empty() ||
         band[run_last].first - band[run_first].first < config.gates.wall_length ||
-        static_cast<double>(run_last - run_first + 1) <
-            walls.min_share * static_cast<double>(cells.size())) {
+        static_cast<double>(standing_in_run) < walls.min_share * static_cast<double>(standing)) {
       return std::nullopt;
     }
     std::vector<bool> in_wall(cells.size(), false);

@@ -164,6 +164,46 @@ TEST(ObjectSegmentationTest, ACarParkedAgainstAWallIsFoundWhenTheWallIsPeeledOff
   }
 }
 
+TEST(ObjectSegmentationTest, ACarAndAHedgeJoinedOnlyByAVergeStayApart) {
+  // A car 10 m ahead and, a metre beyond its right side, a hedge; between them a verge whose
+  // returns stand 0.3 m above the road (below link_min_top), one every 0.1 m.
+  Cloud cloud = road();
+  const std::set<std::size_t> car = addBox(cloud, {10.0, -2.0}, 0.0, {4.2, 1.8, 1.5});
+  const std::set<std::size_t> hedge = addBox(cloud, {10.0, -4.3}, 0.0, {4.0, 0.8, 1.6});
+  for (double x = 8.0; x <= 12.0; x += 0.1) {
+    for (double y = -2.95; y > -3.9; y -= 0.1) {
+      cloud.push_back(PointXYZIT(static_cast<float>(x), static_cast<float>(y),
+                                 static_cast<float>(-kSensorHeight + 0.3), 0, 0.0));
+    }
+  }
+  const auto holding = [](const ObjectSegmentation& result, const std::set<std::size_t>& of) {
+    std::set<std::size_t> segments;
+    for (std::size_t s = 0; s < result.segments.size(); ++s) {
+      for (const std::size_t i : result.segments[s].indices) {
+        if (of.count(i) != 0) {
+          segments.insert(s);
+        }
+      }
+    }
+    return segments;
+  };
+  const ObjectSegmentation apart = segmentObjects(cloud, roadGround());
+  const std::set<std::size_t> with_car = holding(apart, car);
+  const std::set<std::size_t> with_hedge = holding(apart, hedge);
+  ASSERT_EQ(with_car.size(), 1u);
+  ASSERT_EQ(with_hedge.size(), 1u);
+  EXPECT_NE(*with_car.begin(), *with_hedge.begin());
+  // The car's segment is the car, and the verge next to it at most.
+  const OrientedBox& box = apart.segments[*with_car.begin()].box;
+  EXPECT_NEAR(box.centre().x(), 10.0, 0.05);
+  EXPECT_NEAR(box.centre().y(), -2.0, 0.3);
+
+  ObjectSegmentationConfig config;
+  config.link_min_top = 0.0;  // the verge links them: one segment
+  const ObjectSegmentation joined = segmentObjects(cloud, roadGround(), config);
+  EXPECT_EQ(holding(joined, car), holding(joined, hedge));
+}
+
 TEST(ObjectSegmentationTest, AWallAloneLeavesNoSegmentWhenPeeled) {
   Cloud cloud = road();
   addBox(cloud, {3.0, 9.0}, 0.3, {25.0, 0.2, 2.0});  // both faces: two walls 0.2 m apart

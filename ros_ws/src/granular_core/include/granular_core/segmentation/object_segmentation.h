@@ -90,9 +90,10 @@ struct WallPeeling {
   double thickness = 0.3;      ///< m, across the wall
   double angle_step_deg = 1.0; ///< deg, of the Hough search over directions
   double parallel_deg = 15.0;  ///< deg
-  /// A run holding less of the segment's cells is part of a building or a row of trees, not a
-  /// wall with an object beside it (KITTI: 21 segments peeled in ten frames, 45 without).
-  double min_share = 0.4;
+  /// A run holding less of the segment's cells (those not low: ObjectSegmentationConfig::
+  /// link_min_top) is part of a building or a row of trees, not a wall with an object beside
+  /// it (KITTI: 21 segments peeled in ten frames, 45 without).
+  double min_share = 0.35;
   /// Segments of more occupied cells are not searched: a wall with a car beside it is a few
   /// hundred cells (0.15 m), larger ones are buildings and tree rows.
   std::size_t max_cells = 2000;
@@ -132,6 +133,10 @@ struct ObjectSegmentationConfig {
   /// link_azimuth_steps returns' spacing at their range (and one cell) apart: neighbours along
   /// a ring, not the car parked beside (docs/segmentation.md).
   double link_azimuth_steps = 1.2;
+  /// m above the ground: a cell whose points are all lower (a kerb, a verge, the foot of a
+  /// hedge, a car's underside) joins the nearest taller cell it would join but links no two
+  /// cells, so that a car and the hedge beside it stay apart (0: every cell links).
+  double link_min_top = 0.4;
   /// deg: the sensor's angle between returns along a ring (HDL-64E 0.176; the simulator 1).
   double azimuth_step_deg = 0.176;
   SegmentGates gates;
@@ -147,6 +152,7 @@ struct ObjectSegmentationConfig {
     visit("link_cells", self.link_cells, interval(1, 100, "cells"));
     visit("link_range_steps", self.link_range_steps, nonNegative("returns"));
     visit("link_azimuth_steps", self.link_azimuth_steps, nonNegative("returns"));
+    visit("link_min_top", self.link_min_top, nonNegative("m"));
     visit("azimuth_step_deg", self.azimuth_step_deg, positive("deg"));
     visit("gates", self.gates);
     visit("walls", self.walls);

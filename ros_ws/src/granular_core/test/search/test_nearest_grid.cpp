@@ -52,8 +52,9 @@ TEST(NearestSearchTest, GridAndTreeFindTheExactNearestDistance) {
 }
 
 TEST(NearestSearchTest, TheBoundedGridAnswersEveryQueryWithinItsBoundExactly) {
-  // ICP's 0.05 m, ICP-NL's 0.1 m, the report's 0.01 m, and a wide 0.5 m: near the cloud, far
-  // from it, beyond the grid, and on points of the cloud itself (distance 0, and ties).
+  // ICP's 0.05 m, ICP-NL's 0.1 m, the report's 0.01 m, the model fit's 0.5 m and 1 m (cells
+  // narrower than the bound there): near the cloud, far from it, beyond the grid, and on points
+  // of the cloud itself (distance 0, and ties).
   std::mt19937 random(11);
   ModelCloud surface = boxSurface({4.5, 1.8, 1.5}, 3000, random);
   surface.push_back(surface[10]);  // the same point twice: the lower index wins
@@ -61,7 +62,7 @@ TEST(NearestSearchTest, TheBoundedGridAnswersEveryQueryWithinItsBoundExactly) {
   std::uniform_real_distribution<float> near(-3.0f, 3.0f);
   std::uniform_real_distribution<float> far(-20.0f, 20.0f);
   std::normal_distribution<float> jitter(0.0f, 0.03f);
-  for (const float radius : {0.01f, 0.05f, 0.1f, 0.5f}) {
+  for (const float radius : {0.01f, 0.05f, 0.1f, 0.5f, 1.0f}) {
     const float bound = radius * radius;
     const BoundedGrid grid(points.data(), surface.size(), bound);
     EXPECT_EQ(grid.bound(), bound);

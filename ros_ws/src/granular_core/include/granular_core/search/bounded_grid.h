@@ -10,10 +10,10 @@ namespace granular {
 
 /// Exact nearest-point queries within a fixed bound of a fixed cloud: ICP's correspondence
 /// search, which discards a nearest point beyond its maximum correspondence distance. A
-/// uniform grid of cells as wide as the bound, each listing, one after the other, the points
-/// within the bound of any place in the cell, nearest the cell's centre first: a query reads
-/// its cell's list, instead of visiting the 27 cells around it, and stops once no later entry
-/// can be nearer than the best so far. Distances and ties are NearestGrid's (FLANN's float
+/// uniform grid of cells as wide as the bound (at most 0.25 m), each listing, one after the
+/// other, the points within the bound of any place in the cell, nearest the cell's centre
+/// first: a query reads its cell's list, instead of visiting the cells around it, and stops
+/// once no later entry can be nearer than the best so far. Distances and ties are NearestGrid's (FLANN's float
 /// arithmetic; the lowest index among equals), so the answers are the same to the bit.
 class BoundedGrid {
  public:

@@ -15,8 +15,9 @@ constexpr double kMaxCells = 4.0e6;
 // At most this wide (m), whatever the bound: a list holds the points within the bound of its
 // cell, and a query scans those nearer the cell's centre than itself plus its best distance,
 // so a wide cell on a dense cloud is a long scan. The model fit's 0.5 m bound in 0.5 m cells:
-// p95 9.5-11.8 ms an object; in 0.25 m cells 7.2-7.7 ms, for 1.5 times the memory (0.17 m:
-// no faster, twice the memory). ICP's bounds (0.01-0.1 m) are narrower: cells as wide.
+// p95 9.5-11.8 ms an object; in 0.25 m cells 7.2-7.7 ms, the process's peak memory 1.7 times
+// (0.17 m: about 10% faster, 3 times; 0.125 m: no faster, 6 times). ICP's bounds (0.01-0.1 m)
+// keep cells as wide as the bound (half as wide made ICP-NL slower).
 constexpr double kMaxCell = 0.25;
 // Slack (m) for the rounding of cell coordinates: a list holds the points within the bound
 // plus this of its cell, so a query that rounds into a neighbouring cell still finds them.

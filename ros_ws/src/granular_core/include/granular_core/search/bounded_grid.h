@@ -13,8 +13,9 @@ namespace granular {
 /// uniform grid of cells as wide as the bound (at most 0.25 m), each listing, one after the
 /// other, the points within the bound of any place in the cell, nearest the cell's centre
 /// first: a query reads its cell's list, instead of visiting the cells around it, and stops
-/// once no later entry can be nearer than the best so far. Distances and ties are NearestGrid's (FLANN's float
-/// arithmetic; the lowest index among equals), so the answers are the same to the bit.
+/// once no later entry can be nearer than the best so far. Distances and ties are
+/// NearestGrid's (FLANN's float arithmetic; the lowest index among equals), so the answers are
+/// the same to the bit.
 class BoundedGrid {
  public:
   /// Indexes `count` points given as x y z floats (all finite) for queries of squared bound

@@ -705,15 +705,16 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
     // A wall with something beside it: the run is much of the segment's standing cells (low
     // ones, the verge at its foot, join whatever is nearest). Where it is not, the segment is a
     // building or a row of trees, which holds no object to recover.
-    std::size_t standing_in_run = 0;
-    for (std::size_t b = run_first; b <= run_last && !band.empty(); ++b) {
-      standing_in_run += low[cells[band[b].second]] ? 0 : 1;
+    if (band.empty() || band[run_last].first - band[run_first].first < config.gates.wall_length) {
+      return std::nullopt;
     }
-    const auto standing =
-        std::count_if(cells.begin(), cells.end(), [&](std::uint32_t k) { return !low[k]; });
-    if (band.empty() ||
-        band[run_last].first - band[run_first].first < config.gates.wall_length ||
-        static_cast<double>(standing_in_run) < walls.min_share * static_cast<double>(standing)) {
+    const auto standing = [&](std::uint32_t k) { return !low[k]; };
+    const auto standing_in_run = std::count_if(
+        band.begin() + run_first, band.begin() + run_last + 1,
+        [&](const std::pair<double, std::size_t>& entry) { return standing(cells[entry.second]); });
+    const auto standing_in_segment = std::count_if(cells.begin(), cells.end(), standing);
+    if (static_cast<double>(standing_in_run) <
+        walls.min_share * static_cast<double>(standing_in_segment)) {
       return std::nullopt;
     }
     std::vector<bool> in_wall(cells.size(), false);

@@ -15,8 +15,6 @@ from granular_tools import kitti
 from granular_tools.bag_summary import cloud_xyz, points_in_box
 from granular_tools.bag_to_files import offline
 
-REPO_ROOT = pathlib.Path(__file__).resolve().parents[4]
-FIXTURE = REPO_ROOT.parent / "shared" / "fixtures" / "kitti"
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "scripts" / "kitti_to_bag"
 START = 1586102742.0
 
@@ -38,21 +36,6 @@ ORACLE = [
 EXPECTED = {frame * 1000 + line: (label, points) for frame, line, label, points in ORACLE}
 
 
-@pytest.fixture(scope="module")
-def fixture_folder():
-    if not (FIXTURE / "velodyne").is_dir():
-        pytest.skip(f"KITTI fixture frames not found at {FIXTURE} (velodyne/, label_2/, calib/, "
-                    "planes/ of frames 000000-000009; not part of the repository)")
-    return FIXTURE
-
-
-@pytest.fixture(scope="module")
-def kitti_bag(fixture_folder, tmp_path_factory):
-    bag = tmp_path_factory.mktemp("kitti") / "kitti.bag"
-    assert kitti.main([str(fixture_folder), "--out", str(bag), "--quiet"]) == 0
-    return bag
-
-
 def read_bag(path):
     """{topic: [message]} in recording order."""
     messages = {}
@@ -62,21 +45,21 @@ def read_bag(path):
     return messages
 
 
-def frames(fixture_folder):
+def frames(kitti_fixture):
     for frame in range(10):
         stem = f"{frame:06d}"
-        yield (stem, kitti.read_calib(fixture_folder / "calib" / f"{stem}.txt"),
-               kitti.read_labels(fixture_folder / "label_2" / f"{stem}.txt"))
+        yield (stem, kitti.read_calib(kitti_fixture / "calib" / f"{stem}.txt"),
+               kitti.read_labels(kitti_fixture / "label_2" / f"{stem}.txt"))
 
 
-def small_kitti(fixture_folder, folder, stems=("000000", "000001")):
+def small_kitti(kitti_fixture, folder, stems=("000000", "000001")):
     """A KITTI folder of a few fixture frames (clouds linked, text files copied to be edited)."""
     for sub in ("velodyne", "label_2", "calib"):
         (folder / sub).mkdir(parents=True)
     for stem in stems:
-        os.symlink(fixture_folder / "velodyne" / f"{stem}.bin", folder / "velodyne" / f"{stem}.bin")
+        os.symlink(kitti_fixture / "velodyne" / f"{stem}.bin", folder / "velodyne" / f"{stem}.bin")
         for sub in ("label_2", "calib"):
-            shutil.copy(fixture_folder / sub / f"{stem}.txt", folder / sub / f"{stem}.txt")
+            shutil.copy(kitti_fixture / sub / f"{stem}.txt", folder / sub / f"{stem}.txt")
     return folder
 
 
@@ -122,7 +105,7 @@ def test_extract_objects_crops_exactly_the_oracles_points_from_the_bag(kitti_bag
 
 # --- The bag's layout ---------------------------------------------------------------------------
 
-def test_bag_has_the_simulators_layout_stamps_and_points(kitti_bag, fixture_folder):
+def test_bag_has_the_simulators_layout_stamps_and_points(kitti_bag, kitti_fixture):
     messages = read_bag(kitti_bag)
     assert sorted(messages) == [kitti.DETECTIONS_TOPIC, kitti.CLOUD_TOPIC]
     clouds = messages[kitti.CLOUD_TOPIC]
@@ -133,7 +116,7 @@ def test_bag_has_the_simulators_layout_stamps_and_points(kitti_bag, fixture_fold
         assert [(f.name, f.offset, f.datatype) for f in cloud.fields] == [
             ("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("intensity", 16, 2), ("timestamp", 24, 8)]
         points = np.frombuffer(cloud.data, dtype=kitti_point_dtype())
-        raw = kitti.read_velodyne(fixture_folder / "velodyne" / f"{k:06d}.bin")
+        raw = kitti.read_velodyne(kitti_fixture / "velodyne" / f"{k:06d}.bin")
         assert cloud.width == len(raw) and cloud.height == 1
         np.testing.assert_array_equal(np.stack([points[a] for a in "xyz"], 1), raw[:, :3])
         np.testing.assert_array_equal(points["intensity"],
@@ -157,9 +140,9 @@ def test_reflectance_maps_to_intensity_0_to_255_rounded_and_clamped():
         [0, 128, 255, 0, 255, 255, 0, 0])
 
 
-def test_frames_start_time_and_frame_id_options(fixture_folder, tmp_path):
+def test_frames_start_time_and_frame_id_options(kitti_fixture, tmp_path):
     bag = tmp_path / "some.bag"
-    assert kitti.main([str(fixture_folder), "--out", str(bag), "--frames", "000003-000004,8",
+    assert kitti.main([str(kitti_fixture), "--out", str(bag), "--frames", "000003-000004,8",
                        "--start-time", "100.05", "--frame-id", "lidar", "--quiet"]) == 0
     messages = read_bag(bag)
     stamps = [m.header.stamp.to_nsec() for m in messages[kitti.CLOUD_TOPIC]]
@@ -169,17 +152,17 @@ def test_frames_start_time_and_frame_id_options(fixture_folder, tmp_path):
     assert {m.header.frame_id for m in messages[kitti.CLOUD_TOPIC]} == {"lidar"}
 
 
-def test_no_boxes_gives_a_bag_with_only_the_cloud_topic(fixture_folder, tmp_path):
+def test_no_boxes_gives_a_bag_with_only_the_cloud_topic(kitti_fixture, tmp_path):
     bag = tmp_path / "clouds.bag"
-    assert kitti.main([str(fixture_folder), "--out", str(bag), "--no-boxes", "--frames", "0,1",
+    assert kitti.main([str(kitti_fixture), "--out", str(bag), "--no-boxes", "--frames", "0,1",
                        "--quiet"]) == 0
     with rosbag.Bag(str(bag)) as opened:
         topics = opened.get_type_and_topic_info().topics
     assert {t: i.message_count for t, i in topics.items()} == {kitti.CLOUD_TOPIC: 2}
 
 
-def test_no_boxes_needs_neither_labels_nor_calib(fixture_folder, tmp_path):
-    folder = small_kitti(fixture_folder, tmp_path / "kitti")
+def test_no_boxes_needs_neither_labels_nor_calib(kitti_fixture, tmp_path):
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
     shutil.rmtree(folder / "label_2")
     shutil.rmtree(folder / "calib")
     assert kitti.main([str(folder), "--out", str(tmp_path / "c.bag"), "--no-boxes",
@@ -188,10 +171,10 @@ def test_no_boxes_needs_neither_labels_nor_calib(fixture_folder, tmp_path):
 
 # --- Conventions --------------------------------------------------------------------------------
 
-def test_label_box_label_round_trip_is_within_1e_6_and_rewrites_the_same_line(fixture_folder):
+def test_label_box_label_round_trip_is_within_1e_6_and_rewrites_the_same_line(kitti_fixture):
     compared = 0
-    for stem, calib, labels in frames(fixture_folder):
-        lines = (fixture_folder / "label_2" / f"{stem}.txt").read_text().splitlines()
+    for stem, calib, labels in frames(kitti_fixture):
+        lines = (kitti_fixture / "label_2" / f"{stem}.txt").read_text().splitlines()
         for line, label in labels:
             if label.type == kitti.DONT_CARE:
                 continue
@@ -206,8 +189,8 @@ def test_label_box_label_round_trip_is_within_1e_6_and_rewrites_the_same_line(fi
     assert compared == len(ORACLE)
 
 
-def test_round_trips_hold_for_every_heading_and_box_to_label_to_box(fixture_folder):
-    calib = kitti.read_calib(fixture_folder / "calib" / "000000.txt")
+def test_round_trips_hold_for_every_heading_and_box_to_label_to_box(kitti_fixture):
+    calib = kitti.read_calib(kitti_fixture / "calib" / "000000.txt")
     rng = np.random.default_rng(5)
     for rotation_y in np.r_[np.linspace(-math.pi, math.pi, 37)[:-1], rng.uniform(-3.14, 3.14, 40)]:
         label = kitti.Label("Car", 0.0, 0, 0.0, (0.0, 0.0, 1.0, 1.0),
@@ -226,9 +209,9 @@ def test_round_trips_hold_for_every_heading_and_box_to_label_to_box(fixture_fold
         np.testing.assert_allclose(from_pose.rotation, box.rotation, rtol=0, atol=1e-12)
 
 
-def test_box_axes_are_a_right_handed_rotation_with_up_along_the_cameras_minus_y(fixture_folder):
-    calib = kitti.read_calib(fixture_folder / "calib" / "000008.txt")
-    _, label = kitti.read_labels(fixture_folder / "label_2" / "000008.txt")[0]
+def test_box_axes_are_a_right_handed_rotation_with_up_along_the_cameras_minus_y(kitti_fixture):
+    calib = kitti.read_calib(kitti_fixture / "calib" / "000008.txt")
+    _, label = kitti.read_labels(kitti_fixture / "label_2" / "000008.txt")[0]
     box = kitti.label_to_box(label, calib)
     np.testing.assert_allclose(box.rotation.T @ box.rotation, np.eye(3), atol=1e-12)
     assert np.linalg.det(box.rotation) == pytest.approx(1.0, abs=1e-12)
@@ -240,8 +223,8 @@ def test_box_axes_are_a_right_handed_rotation_with_up_along_the_cameras_minus_y(
                                atol=1e-12)
 
 
-def test_closest_rotation_is_orthonormal_and_within_1e_7_of_kittis_matrix(fixture_folder):
-    for _, calib, _ in frames(fixture_folder):
+def test_closest_rotation_is_orthonormal_and_within_1e_7_of_kittis_matrix(kitti_fixture):
+    for _, calib, _ in frames(kitti_fixture):
         linear, _ = calib.velo_to_rect()
         rotation, _ = calib.rigid_velo_to_rect()
         np.testing.assert_allclose(rotation @ rotation.T, np.eye(3), atol=1e-14)
@@ -263,11 +246,11 @@ def test_quaternions_round_trip_through_half_turns_and_small_angles():
                                    atol=1e-12)
 
 
-def test_alpha_and_the_2d_box_agree_with_kittis_labels(fixture_folder):
+def test_alpha_and_the_2d_box_agree_with_kittis_labels(kitti_fixture):
     """KITTI's alphas and hand-drawn 2-D boxes are not computed exactly as ours: alpha within
     0.04 rad (0.033 measured, for a car 3.7 m away), the projected box within IoU 0.8 where the
     object is not truncated (KITTI clips truncated ones to the image)."""
-    for _, calib, labels in frames(fixture_folder):
+    for _, calib, labels in frames(kitti_fixture):
         for _, label in labels:
             if label.type == kitti.DONT_CARE:
                 continue
@@ -286,9 +269,9 @@ def iou(a, b):
 
 
 def test_road_plane_in_the_lidar_frame_is_under_the_sensor_and_holds_the_cameras_plane(
-        fixture_folder):
-    for stem, calib, _ in frames(fixture_folder):
-        plane = kitti.read_plane(fixture_folder / "planes" / f"{stem}.txt")
+        kitti_fixture):
+    for stem, calib, _ in frames(kitti_fixture):
+        plane = kitti.read_plane(kitti_fixture / "planes" / f"{stem}.txt")
         normal, offset = kitti.plane_to_velo(plane, calib)
         assert np.linalg.norm(normal) == pytest.approx(1.0) and normal[2] > 0.99
         assert 1.5 < offset < 1.9  # the HDL-64E is mounted 1.73 m above the road
@@ -323,8 +306,8 @@ def test_a_missing_folder_is_exit_2_naming_it(tmp_path, capsys):
 
 
 def test_a_frame_without_calib_is_exit_2_naming_the_file_and_leaves_no_bag(
-        fixture_folder, tmp_path, capsys):
-    folder = small_kitti(fixture_folder, tmp_path / "kitti")
+        kitti_fixture, tmp_path, capsys):
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
     (folder / "calib" / "000001.txt").unlink()
     status, err = run_failing([str(folder), "--out", str(tmp_path / "x.bag")], capsys)
     assert status == 2 and "calib/000001.txt: no such file" in err
@@ -332,8 +315,8 @@ def test_a_frame_without_calib_is_exit_2_naming_the_file_and_leaves_no_bag(
 
 
 def test_a_malformed_label_line_is_exit_2_naming_file_and_line_and_leaves_no_bag(
-        fixture_folder, tmp_path, capsys):
-    folder = small_kitti(fixture_folder, tmp_path / "kitti")
+        kitti_fixture, tmp_path, capsys):
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
     labels = folder / "label_2" / "000001.txt"
     lines = labels.read_text().splitlines()
     lines[1] = lines[1].rsplit(" ", 1)[0]  # rotation_y missing
@@ -349,9 +332,9 @@ def test_a_malformed_label_line_is_exit_2_naming_file_and_line_and_leaves_no_bag
     assert_nothing_written(tmp_path)
 
 
-def test_a_truncated_cloud_stops_the_run_midway_and_leaves_no_bag(fixture_folder, tmp_path,
+def test_a_truncated_cloud_stops_the_run_midway_and_leaves_no_bag(kitti_fixture, tmp_path,
                                                                   capsys):
-    folder = small_kitti(fixture_folder, tmp_path / "kitti")
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
     cloud = folder / "velodyne" / "000001.bin"
     data = cloud.read_bytes()
     cloud.unlink()
@@ -361,32 +344,32 @@ def test_a_truncated_cloud_stops_the_run_midway_and_leaves_no_bag(fixture_folder
     assert_nothing_written(tmp_path)
 
 
-def test_frames_that_are_not_there_are_exit_2(fixture_folder, tmp_path, capsys):
-    status, err = run_failing([str(fixture_folder), "--out", str(tmp_path / "x.bag"),
+def test_frames_that_are_not_there_are_exit_2(kitti_fixture, tmp_path, capsys):
+    status, err = run_failing([str(kitti_fixture), "--out", str(tmp_path / "x.bag"),
                                "--frames", "8-12"], capsys)
     assert status == 2 and "no frame 000010, 000011, 000012 (3 of the 5 asked for)" in err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_an_output_folder_that_does_not_exist_is_exit_1(fixture_folder, tmp_path, capsys):
-    status, err = run_failing([str(fixture_folder), "--out", str(tmp_path / "no" / "x.bag"),
+def test_an_output_folder_that_does_not_exist_is_exit_1(kitti_fixture, tmp_path, capsys):
+    status, err = run_failing([str(kitti_fixture), "--out", str(tmp_path / "no" / "x.bag"),
                                "--frames", "0"], capsys)
     assert status == 1 and "does not exist" in err
 
 
-def test_bad_options_are_exit_2(fixture_folder, tmp_path):
+def test_bad_options_are_exit_2(kitti_fixture, tmp_path):
     for extra in (["--frames", "a-b"], ["--start-time", "-1"], ["--frame-id", ""]):
         with pytest.raises(SystemExit) as exited:
-            kitti.main([str(fixture_folder), "--out", str(tmp_path / "x.bag"), *extra])
+            kitti.main([str(kitti_fixture), "--out", str(tmp_path / "x.bag"), *extra])
         assert exited.value.code == 2
 
 
-def test_the_script_tells_the_truth_in_help_and_fails_in_one_line(fixture_folder, tmp_path):
+def test_the_script_tells_the_truth_in_help_and_fails_in_one_line(kitti_fixture, tmp_path):
     shown = subprocess.run([sys.executable, str(SCRIPT), "--help"], capture_output=True,
                            text=True, check=True)
     for option in ("--frames", "--start-time", "--frame-id", "--no-boxes", "--out"):
         assert option in shown.stdout
-    folder = small_kitti(fixture_folder, tmp_path / "kitti")
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
     (folder / "calib" / "000000.txt").unlink()
     failed = subprocess.run([sys.executable, str(SCRIPT), str(folder), "--out",
                              str(tmp_path / "x.bag")], capture_output=True, text=True)

@@ -5,15 +5,10 @@ import json
 import pathlib
 import subprocess
 
-import pytest
-
-from granular_tools import kitti
-from granular_tools.bag_to_files import offline
 from granular_tools.evaluation import cuboids as evaluate_cuboids
 from granular_tools.stages import without_rosrun
 
 REPO_ROOT = pathlib.Path(__file__).resolve().parents[4]
-FIXTURE = REPO_ROOT.parent / "shared" / "fixtures" / "kitti"
 FIT_CUBOIDS = without_rosrun(["rosrun", "granular_ros", "fit_cuboids"])
 # KITTI's HDL-64E and KITTI's size priors, as scripts/bench_cuboids runs them.
 KITTI_OPTIONS = ["--config", str(REPO_ROOT / "config" / "cuboids.yaml"), "--method", "geometric",
@@ -21,42 +16,31 @@ KITTI_OPTIONS = ["--config", str(REPO_ROOT / "config" / "cuboids.yaml"), "--meth
                  "--azimuth-step", "0.176"]
 
 
-@pytest.fixture(scope="module")
-def frames(tmp_path_factory):
-    if not (FIXTURE / "velodyne").is_dir():
-        pytest.skip(f"KITTI fixture frames not found at {FIXTURE}")
-    folder = tmp_path_factory.mktemp("kitti_cuboids")
-    assert kitti.main([str(FIXTURE), "--out", str(folder / "kitti.bag"), "--quiet"]) == 0
-    assert offline.main(["--bag", str(folder / "kitti.bag"), "--out", str(folder / "frames"),
-                         "--quiet"]) == 0
-    return folder
-
-
-def scored(frames, boxes):
-    """The overall figures of evaluate_cuboids for cuboids fitted to `boxes`."""
-    fitted, report = frames / f"fitted_{boxes}", frames / f"report_{boxes}"
-    run = subprocess.run(FIT_CUBOIDS + ["--frames", str(frames / "frames"), "--out", str(fitted),
+def scored(frames, boxes, folder):
+    """The overall figures of evaluate_cuboids for cuboids fitted to `boxes` (into `folder`)."""
+    fitted, report = folder / "fitted", folder / "report"
+    run = subprocess.run(FIT_CUBOIDS + ["--frames", str(frames), "--out", str(fitted),
                                         "--boxes", boxes] + KITTI_OPTIONS,
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert evaluate_cuboids.main(["--truth", str(frames / "frames"), "--predicted", str(fitted),
+    assert evaluate_cuboids.main(["--truth", str(frames), "--predicted", str(fitted),
                                   "--out", str(report), "--min-points", "50", "--labels", "Car",
                                   "--quiet"]) == 0
     return json.loads((report / "summary.json").read_text())["overall"]
 
 
-def test_fitting_the_given_boxes_meets_the_yaw_and_centre_targets(frames):
-    overall = scored(frames, "detections")
+def test_fitting_the_given_boxes_meets_the_yaw_and_centre_targets(kitti_frames, tmp_path):
+    overall = scored(kitti_frames, "detections", tmp_path)
     assert overall["truths"] == 13
     assert overall["errors"]["yaw_deg"]["median"] <= 5.0
     assert overall["errors"]["centre_3d_m"]["median"] <= 0.25
 
 
-def test_cuboids_from_segments_find_eleven_of_the_thirteen_cars(frames):
+def test_cuboids_from_segments_find_eleven_of_the_thirteen_cars(kitti_frames, tmp_path):
     """Within 0.5 m and 10 degrees (the paper's criterion). The two missed: a car seen end on,
     whose length no return tells, and one whose few returns show its front at 34 degrees to
     its labelled heading; the car beside a hedge (frame 000002) is found since low cells link
     nothing (segmentation.yaml, objects.link_min_top)."""
-    overall = scored(frames, "segment")
+    overall = scored(kitti_frames, "segment", tmp_path)
     assert overall["truths"] == 13
     assert overall["criteria"]["paper"]["tp"] >= 11

@@ -10,24 +10,8 @@ import pytest
 
 import hostile
 from granular_tools import kitti
-from granular_tools.bag_to_files import offline
 from granular_tools.labelling import kitti_labels
 
-REPO_ROOT = pathlib.Path(__file__).resolve().parents[4]
-FIXTURE = REPO_ROOT.parent / "shared" / "fixtures" / "kitti"
-
-
-@pytest.fixture(scope="module")
-def kitti_frames(tmp_path_factory):
-    """The fixture's frames as kitti_to_bag and bag_to_files make them."""
-    if not (FIXTURE / "label_2").is_dir():
-        pytest.skip(f"KITTI fixture frames not found at {FIXTURE} (velodyne/, label_2/, calib/ "
-                    "of frames 000000-000009; not part of the repository)")
-    folder = tmp_path_factory.mktemp("kitti_labels")
-    assert kitti.main([str(FIXTURE), "--out", str(folder / "kitti.bag"), "--quiet"]) == 0
-    assert offline.main(["--bag", str(folder / "kitti.bag"), "--out", str(folder / "frames"),
-                         "--quiet"]) == 0
-    return folder / "frames"
 
 
 @pytest.fixture
@@ -60,13 +44,13 @@ def assert_same_boxes(got, expected):
             assert abs(turn) < 1e-3, (stem, ry, ry2)
 
 
-def test_label_2_imported_and_exported_again_gives_the_same_boxes(frames, tmp_path):
-    calib = ["--calib", str(FIXTURE)]
-    assert kitti_labels.main(["import", str(FIXTURE / "label_2"), "--into", str(frames),
+def test_label_2_imported_and_exported_again_gives_the_same_boxes(frames, tmp_path, kitti_fixture):
+    calib = ["--calib", str(kitti_fixture)]
+    assert kitti_labels.main(["import", str(kitti_fixture / "label_2"), "--into", str(frames),
                               "--quiet"] + calib) == 0
     assert kitti_labels.main(["export", str(frames), "--out", str(tmp_path / "label_2"),
                               "--quiet"] + calib) == 0
-    expected = boxes_of(FIXTURE / "label_2")
+    expected = boxes_of(kitti_fixture / "label_2")
     assert sum(map(len, expected.values())) == 27
     assert_same_boxes(boxes_of(tmp_path / "label_2"), expected)
     # ids as kitti_to_bag gives them: frame * 1000 + line
@@ -74,10 +58,10 @@ def test_label_2_imported_and_exported_again_gives_the_same_boxes(frames, tmp_pa
     assert [d["id"] for d in document["detections"]] == list(range(8000, 8006))
 
 
-def test_a_frames_folder_from_kitti_exports_its_label_lines(frames, tmp_path):
+def test_a_frames_folder_from_kitti_exports_its_label_lines(frames, tmp_path, kitti_fixture):
     assert kitti_labels.main(["export", str(frames), "--out", str(tmp_path / "label_2"),
-                              "--calib", str(FIXTURE / "calib"), "--quiet"]) == 0
-    assert_same_boxes(boxes_of(tmp_path / "label_2"), boxes_of(FIXTURE / "label_2"))
+                              "--calib", str(kitti_fixture / "calib"), "--quiet"]) == 0
+    assert_same_boxes(boxes_of(tmp_path / "label_2"), boxes_of(kitti_fixture / "label_2"))
 
 
 def test_without_calib_the_lidar_convention_round_trips(frames, tmp_path):
@@ -116,30 +100,30 @@ def test_free_text_labels_survive_the_label_files(frames, tmp_path):
     assert json.loads(path.read_text())["detections"][0]["label"] == "Medium-sized Truck"
 
 
-def test_stamps_that_are_not_the_kitti_frames_are_refused(frames, tmp_path):
+def test_stamps_that_are_not_the_kitti_frames_are_refused(frames, tmp_path, kitti_fixture):
     result = hostile.run(hostile.tool("granular_tools", "kitti_labels") + [
-        "export", frames, "--out", tmp_path / "out", "--calib", FIXTURE, "--start-time", "5"])
+        "export", frames, "--out", tmp_path / "out", "--calib", kitti_fixture, "--start-time", "5"])
     hostile.assert_fails_clearly(result, 2, "--start-time")
     assert not (tmp_path / "out").exists()
 
 
-def test_a_malformed_label_line_is_named_and_nothing_is_written(frames, tmp_path):
+def test_a_malformed_label_line_is_named_and_nothing_is_written(frames, tmp_path, kitti_fixture):
     labels = tmp_path / "label_2"
-    shutil.copytree(FIXTURE / "label_2", labels)
+    shutil.copytree(kitti_fixture / "label_2", labels)
     (labels / "000003.txt").write_text("Car 0.00 0 1.2 1 2 3 4 1.5 1.6 four 1 2 3 0.1\n")
     before = hostile.snapshot(frames)
     result = hostile.run(hostile.tool("granular_tools", "kitti_labels") + [
-        "import", labels, "--into", frames, "--calib", FIXTURE])
+        "import", labels, "--into", frames, "--calib", kitti_fixture])
     hostile.assert_fails_clearly(result, 2, labels / "000003.txt", "line 1")
     assert hostile.snapshot(frames) == before
 
 
-def test_an_unreadable_detections_file_stops_the_import_before_any_write(frames):
+def test_an_unreadable_detections_file_stops_the_import_before_any_write(frames, kitti_fixture):
     broken = next((frames / "detections_3d").glob("*.json"))
     broken.write_text("{not json")
     before = hostile.snapshot(frames / "detections_3d")
     result = hostile.run(hostile.tool("granular_tools", "kitti_labels") + [
-        "import", FIXTURE / "label_2", "--into", frames, "--calib", FIXTURE])
+        "import", kitti_fixture / "label_2", "--into", frames, "--calib", kitti_fixture])
     hostile.assert_fails_clearly(result, 1, broken)
     assert hostile.snapshot(frames / "detections_3d") == before
 

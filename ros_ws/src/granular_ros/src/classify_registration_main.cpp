@@ -52,6 +52,11 @@ std::string usage() {
           "  --transforms      also write each pair's final transform (16 numbers, row-major;\n"
           "                    the file grows about threefold)\n"
           "  --threads N       threads (default: every core)\n"
+          "  --early-rejection score an object's fitness only against the models that can\n"
+          "                    still be its best or second best under criterion 2 or 3 (a\n"
+          "                    lower bound of each model's fitness rejects the others): the\n"
+          "                    same predictions, faster; the rejected pairs' fitness is null\n"
+          "                    with \"rejected\": true, so svm_fitness cannot learn from the file\n"
           "  --help            print this help and exit\n"
           "\n"
           "Progress and warnings go to stderr, a summary per criterion to stdout. Exit status:\n"
@@ -69,6 +74,7 @@ struct Options {
   std::optional<std::string> config_file;
   int threads = 0;
   bool transforms = false;
+  bool early_rejection = false;
 };
 
 }  // namespace
@@ -86,6 +92,7 @@ int main(int argc, char** argv) {
       .value("--preset", options.preset)
       .value("--config", options.config_file)
       .flag("--transforms", options.transforms)
+      .flag("--early-rejection", options.early_rejection)
       .threads("--threads", options.threads);
   const auto configure = [&] {
     const auto parsed = granular::registrationMethodFromName(options.method);
@@ -103,6 +110,7 @@ int main(int argc, char** argv) {
     granular::ClassifyFolderOptions run_options;
     run_options.preset = options.preset;
     run_options.registration.threads = options.threads;
+    run_options.registration.early_rejection = options.early_rejection;
     run_options.registration.progress =
         tool.progress(granular::registrationMethodName(method), "objects");
     run_options.warn = [](const std::string& warning) {

@@ -53,6 +53,7 @@ ObjectClassifier ObjectClassifier::registration(RegistrationMethod method,
                                                 int threads) {
   ObjectClassifier classifier;
   classifier.impl_->registration.emplace(method, config, readClassModels(models));
+  classifier.impl_->registration->prepareEarlyRejection();  // before the first frame
   classifier.impl_->threads = threads;
   classifier.impl_->warnings = classifier.impl_->registration->warnings();
   return classifier;
@@ -192,6 +193,8 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     return predictions;
   }
   const RegistrationClassifier& classifier = *impl_->registration;
+  // The label and its margin read only the best and second best fitness.
+  options.early_rejection = true;
   std::vector<ModelCloud> clouds;
   clouds.reserve(objects.size());
   for (const Cloud& object : objects) {

@@ -50,19 +50,17 @@ inline RegistrationState icpState(Criteria::ConvergenceState state) {
   return RegistrationState::kFailed;
 }
 
-// Aligns `source` with a registration object whose target is set; `aligned` is scratch.
-// `tree`: the target's NearestTree, for the fitness; nullptr uses PCL's getFitnessScore().
+// Aligns `source` with a registration object whose target is set, with PCL's
+// getFitnessScore(); `aligned` is scratch.
 template <typename Registration>
-PairResult alignIcp(Registration& icp, const ModelCloud::ConstPtr& source, ModelCloud& aligned,
-                    const NearestTree* tree) {
+PairResult alignIcp(Registration& icp, const ModelCloud::ConstPtr& source, ModelCloud& aligned) {
   icp.setInputSource(source);
   icp.align(aligned);
   PairResult result;
   result.state = icpState(icp.getConvergeCriteria()->getConvergenceState());
   result.iterations = icp.iterations();
   result.transform = icp.getFinalTransformation();
-  result.fitness = tree != nullptr ? tree->fitness(*source, result.transform)
-                                   : icp.getFitnessScore();
+  result.fitness = icp.getFitnessScore();
   return result;
 }
 

@@ -11,9 +11,8 @@ namespace {
 
 class NdtAligner : public ModelAligner {
  public:
-  NdtAligner(const std::vector<std::unique_ptr<const NdtMatcher>>& matchers,
-             const PreparedModels& models, int max_iterations)
-      : matchers_(matchers), models_(models), max_iterations_(max_iterations) {}
+  NdtAligner(const std::vector<std::unique_ptr<const NdtMatcher>>& matchers, int max_iterations)
+      : matchers_(matchers), max_iterations_(max_iterations) {}
 
   PairResult align(const ModelCloud::ConstPtr& source, std::size_t model) override {
     const NdtMatcher::Result aligned = matchers_[model]->align(*source);
@@ -22,13 +21,11 @@ class NdtAligner : public ModelAligner {
     result.state = ndt_detail::ndtState(aligned.likelihood, aligned.converged,
                                         aligned.iterations, max_iterations_);
     result.transform = aligned.transform;
-    result.fitness = models_.trees[model]->fitness(*source, aligned.transform);
     return result;
   }
 
  private:
   const std::vector<std::unique_ptr<const NdtMatcher>>& matchers_;
-  const PreparedModels& models_;
   int max_iterations_;
 };
 
@@ -36,7 +33,7 @@ class NdtMethod : public RegistrationMethodImpl {
  public:
   NdtMethod(const NdtClassifierConfig& config, const PreparedModels& models,
             const std::vector<std::string>& labels)
-      : config_(config), models_(models) {
+      : config_(config) {
     for (std::size_t m = 0; m < models.clouds.size(); ++m) {
       const ModelCloud& cloud = *models.clouds[m];
       auto matcher = std::make_unique<const NdtMatcher>(cloud, config);
@@ -56,14 +53,13 @@ class NdtMethod : public RegistrationMethodImpl {
 
   std::unique_ptr<ModelAligner> aligner() const override {
     // NdtMatcher::align is const: every thread shares the matchers.
-    return std::make_unique<NdtAligner>(matchers_, models_, config_.max_iterations);
+    return std::make_unique<NdtAligner>(matchers_, config_.max_iterations);
   }
 
   std::vector<std::string> warnings() const override { return warnings_; }
 
  private:
   NdtClassifierConfig config_;
-  const PreparedModels& models_;
   std::vector<std::unique_ptr<const NdtMatcher>> matchers_;
   std::vector<std::string> warnings_;
 };

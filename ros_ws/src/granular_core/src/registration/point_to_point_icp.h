@@ -136,7 +136,6 @@ class PointToPointAligner : public ModelAligner {
     result.state = icpState(criteria.getConvergenceState());
     result.iterations = iterations;
     result.transform = total;
-    result.fitness = tree.fitness(*source, total);
     return result;
   }
 

@@ -24,7 +24,7 @@ PairResult icpPair(const IcpClassifierConfig& config, const ModelCloud::ConstPtr
   icp_detail::configure(icp, config);
   icp.setInputTarget(model);
   ModelCloud aligned;
-  return icp_detail::alignIcp(icp, source, aligned, nullptr);
+  return icp_detail::alignIcp(icp, source, aligned);
 }
 
 PairResult ndtPair(const NdtClassifierConfig& config, const ModelCloud::ConstPtr& source,

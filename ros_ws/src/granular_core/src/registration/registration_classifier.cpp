@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +13,88 @@
 #endif
 
 namespace granular {
+namespace {
+
+// The cells of each model's fitness lower bound, and how far beyond its box they reach (m).
+// Tuned ICP on the demo's N10 set (20,412 pairs): 0.2 m cells 0.5 m beyond reject 12,482
+// fitness scores, and the seven models' cells take 48 ms of one core to build; 0.1 m cells
+// (0.3 m beyond) 12,989; 0.3 m cells 12,019; 1 m beyond instead of 0.5 m
+// 12,471 (the model's box bounds as well there).
+constexpr float kFitnessBoundCell = 0.2f;
+constexpr float kFitnessBoundMargin = 0.5f;
+
+// The two lowest of the values offered.
+struct LowestTwo {
+  double first = std::numeric_limits<double>::infinity();
+  double second = std::numeric_limits<double>::infinity();
+  void offer(double value) {
+    if (value < first) {
+      second = first;
+      first = value;
+    } else if (value < second) {
+      second = value;
+    }
+  }
+};
+
+// One thread's buffers for scoring an object's fitness against every model.
+struct FitnessScratch {
+  std::vector<ModelCloud> moved;
+  std::vector<double> lower_bound;
+  std::vector<std::size_t> order;
+};
+
+// Scores the fitness of the pairs in `result` that registered (`registered`), each against its
+// model's tree; with `early_rejection`, as RegisterOptions::early_rejection says.
+void scoreFitness(const ModelCloud& source, const std::vector<NearestTree::Ptr>& trees,
+                  const std::vector<bool>& registered, bool early_rejection,
+                  std::vector<PairResult>& result, FitnessScratch& scratch) {
+  const std::size_t models = result.size();
+  if (!early_rejection) {
+    for (std::size_t m = 0; m < models; ++m) {
+      if (registered[m]) {
+        result[m].fitness = trees[m]->fitness(source, result[m].transform);
+      }
+    }
+    return;
+  }
+  scratch.moved.resize(models);
+  scratch.lower_bound.assign(models, 0.0);
+  scratch.order.clear();
+  for (std::size_t m = 0; m < models; ++m) {
+    if (registered[m]) {
+      NearestTree::moveForFitness(source, result[m].transform, scratch.moved[m]);
+      scratch.lower_bound[m] = trees[m]->fitnessLowerBound(scratch.moved[m]);
+      scratch.order.push_back(m);
+    }
+  }
+  // The likeliest winners first, so that the thresholds fall early.
+  std::stable_sort(scratch.order.begin(), scratch.order.end(),
+                   [&](std::size_t a, std::size_t b) {
+                     return scratch.lower_bound[a] < scratch.lower_bound[b];
+                   });
+  LowestTwo converged;  // criterion 2's models
+  LowestTwo any;        // criterion 3's
+  for (const std::size_t m : scratch.order) {
+    PairResult& pair = result[m];
+    // A bound above the second lowest leaves the model third or later, and a tie with it
+    // is scored (equal fitness goes to the model listed first).
+    const double threshold = pair.converged() ? converged.second : any.second;
+    if (scratch.lower_bound[m] > threshold) {
+      pair.rejected = true;
+      continue;
+    }
+    pair.fitness = trees[m]->fitnessOfMoved(scratch.moved[m]);
+    if (std::isfinite(pair.fitness)) {
+      any.offer(pair.fitness);
+      if (pair.converged()) {
+        converged.offer(pair.fitness);
+      }
+    }
+  }
+}
+
+}  // namespace
 
 struct RegistrationClassifier::Impl {
   RegistrationMethod method;
@@ -20,6 +103,8 @@ struct RegistrationClassifier::Impl {
   PreparedModels models;
   std::unique_ptr<RegistrationMethodImpl> registration;
   std::vector<std::string> warnings;
+  /// The trees' fitness bounds are built by the first registerObjects that rejects early.
+  std::once_flag fitness_bounds;
 };
 
 RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
@@ -118,8 +203,30 @@ int registrationThreads(const RegisterOptions& options) {
 #endif
 }
 
+void RegistrationClassifier::prepareEarlyRejection() const {
+  std::call_once(impl_->fitness_bounds, [this] {
+    const long count = static_cast<long>(impl_->models.trees.size());
+    std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long m = 0; m < count; ++m) {
+      try {
+        impl_->models.trees[m]->buildFitnessBound(kFitnessBoundCell, kFitnessBoundMargin);
+      } catch (...) {
+#pragma omp critical(granular_model_error)
+        error = error ? error : std::current_exception();
+      }
+    }
+    if (error) {
+      std::rethrow_exception(error);  // the flag stays unset: the next call tries again
+    }
+  });
+}
+
 std::vector<std::vector<PairResult>> RegistrationClassifier::registerObjects(
     const std::vector<ModelCloud>& objects, const RegisterOptions& options) const {
+  if (options.early_rejection) {
+    prepareEarlyRejection();
+  }
   const Impl& impl = *impl_;
   const std::size_t models = impl.labels.size();
   std::vector<std::vector<PairResult>> results(objects.size());
@@ -130,6 +237,8 @@ std::vector<std::vector<PairResult>> RegistrationClassifier::registerObjects(
   {
     // Each thread's own registration objects; building them costs no tree or cell.
     std::unique_ptr<ModelAligner> aligner;
+    FitnessScratch scratch;
+    std::vector<bool> registered;
     try {
       aligner = impl.registration->aligner();
     } catch (...) {
@@ -147,12 +256,21 @@ std::vector<std::vector<PairResult>> RegistrationClassifier::registerObjects(
       std::vector<PairResult>& result = results[static_cast<std::size_t>(i)];
       result.assign(models, PairResult());
       if (source->size() >= minimumSourcePoints(impl.method)) {
+        registered.assign(models, false);
         for (std::size_t m = 0; m < models; ++m) {
           try {
             result[m] = aligner->align(source, m);
+            registered[m] = true;
           } catch (const std::exception&) {
             result[m] = failedPair();
           }
+        }
+        try {
+          scoreFitness(*source, impl.models.trees, registered, options.early_rejection, result,
+                       scratch);
+        } catch (...) {
+#pragma omp critical(granular_registration_error)
+          error = error ? error : std::current_exception();
         }
       }
 #pragma omp critical(granular_registration_progress)

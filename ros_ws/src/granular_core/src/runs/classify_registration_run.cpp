@@ -29,6 +29,9 @@ nlohmann::json pairJson(const PairResult& result, bool with_transform) {
                          {"iterations", result.iterations}};
   const std::optional<double> fitness = result.reportedFitness();
   json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
+  if (result.rejected) {
+    json["rejected"] = true;
+  }
   if (!with_transform) {
     return json;
   }

@@ -127,6 +127,10 @@ RegistrationResults readRegistrationResults(const fs::path& file) {
       const nlohmann::json& per_model = object.at("per_model");
       std::vector<std::optional<double>> fitness;
       for (const std::string& model : results.models) {
+        if (per_model.at(model).value("rejected", false)) {
+          throw fail("written with --early-rejection: the fitness of the models that could not "
+                     "win was not computed, and svm_fitness's features need every model's");
+        }
         const nlohmann::json& value = per_model.at(model).at("fitness");
         fitness.push_back(value.is_number() ? std::optional<double>(value.get<double>())
                                             : std::nullopt);

@@ -37,6 +37,27 @@ void NearestTree::setInputCloud(const PointCloudConstPtr& cloud,
   }
   buildNeighbourGrid();
   tree_ = std::make_unique<NearestPoints>(points_.data(), mapping_.size());
+  fitness_bound_.reset();
+}
+
+void NearestTree::buildFitnessBound(float cell, float margin) {
+  fitness_bound_.reset();
+  if (!mapping_.empty()) {
+    fitness_bound_ =
+        std::make_unique<DistanceBound>(points_.data(), mapping_.size(), *tree_, cell, margin);
+  }
+}
+
+double NearestTree::fitnessLowerBound(const ModelCloud& moved) const {
+  if (!fitness_bound_ || moved.empty()) {
+    return 0.0;
+  }
+  // Summed in the order fitnessOfMoved sums, each term at most its term there: so is the mean.
+  double sum = 0.0;
+  for (const pcl::PointXYZ& point : moved) {
+    sum += fitness_bound_->squaredLowerBound(point.data);
+  }
+  return sum / static_cast<double>(moved.size());
 }
 
 void NearestTree::setCorrespondenceBound(double max_distance) {
@@ -79,7 +100,19 @@ double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& tra
     return std::numeric_limits<double>::max();
   }
   ModelCloud moved;
+  moveForFitness(source, transform, moved);
+  return fitnessOfMoved(moved);
+}
+
+void NearestTree::moveForFitness(const ModelCloud& source, const Eigen::Matrix4f& transform,
+                                 ModelCloud& moved) {
   pcl::transformPointCloud(source, moved, transform);
+}
+
+double NearestTree::fitnessOfMoved(const ModelCloud& moved) const {
+  if (mapping_.empty() || moved.empty()) {
+    return std::numeric_limits<double>::max();
+  }
   std::vector<float> distances(moved.size());
   // With a correspondence bound, the points ICP paired (within it) are answered by its
   // BoundedGrid from one cell's list; the kd-tree answers the rest.

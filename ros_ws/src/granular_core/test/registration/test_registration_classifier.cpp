@@ -1,6 +1,8 @@
 // RegistrationClassifier: every method tells shapes apart, and the cached, threaded path
 // equals the report's loop (reference.h) bit for bit.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -10,6 +12,7 @@
 #include "granular_core/registration/criteria.h"
 #include "granular_core/registration/reference.h"
 #include "granular_core/registration/registration_classifier.h"
+#include "support/model_clouds.h"
 #include "support/registration_scene.h"
 
 namespace granular {
@@ -132,6 +135,59 @@ TEST_F(RegistrationTest, IcpNlPredictsAsTheReportsLoopWithAnExactStep) {
       }
     }
   }
+}
+
+// Early rejection: with four models, the fitness of the models that cannot be an object's best
+// or second best is skipped, and nothing a prediction or a margin reads changes.
+TEST_F(RegistrationTest, EarlyRejectionSkipsOnlyFitnessThatCannotDecide) {
+  std::mt19937 random(9);
+  std::vector<LabelledModel> models = models_;
+  models.push_back({"Small", testing_clouds::boxSurface({1.0, 0.8, 1.0}, 2000, random)});
+  models.push_back({"Huge", testing_clouds::boxSurface({10.0, 2.5, 3.0}, 6000, random)});
+  const std::vector<ModelCloud> objects = withTurnedCopies(objects_);
+  std::size_t rejected = 0;
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    const RegistrationClassifier classifier(method, converging(), models);
+    RegisterOptions early;
+    early.early_rejection = true;
+    const auto full = classifier.registerObjects(objects);
+    const auto fast = classifier.registerObjects(objects, early);
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      const Predictions expected = predict(full[i]);
+      const Predictions got = predict(fast[i]);
+      for (int criterion = 1; criterion <= 3; ++criterion) {
+        EXPECT_EQ(got.criterion(criterion), expected.criterion(criterion))
+            << registrationMethodName(method) << " object " << i << " criterion " << criterion;
+      }
+      // The second lowest fitness among the converged models and among all of them.
+      std::vector<double> converged, any;
+      for (const PairResult& pair : full[i]) {
+        any.push_back(pair.fitness);
+        if (pair.converged()) {
+          converged.push_back(pair.fitness);
+        }
+      }
+      const auto second = [](std::vector<double> values) {
+        std::sort(values.begin(), values.end());
+        return values.size() < 2 ? std::numeric_limits<double>::infinity() : values[1];
+      };
+      for (std::size_t m = 0; m < models.size(); ++m) {
+        EXPECT_EQ(fast[i][m].state, full[i][m].state);
+        EXPECT_TRUE(fast[i][m].transform == full[i][m].transform);
+        if (!fast[i][m].rejected) {
+          EXPECT_EQ(fast[i][m].fitness, full[i][m].fitness) << i << " " << m;
+          continue;
+        }
+        ++rejected;
+        EXPECT_FALSE(fast[i][m].reportedFitness());
+        EXPECT_GT(full[i][m].fitness, second(full[i][m].converged() ? converged : any))
+            << registrationMethodName(method) << " object " << i << " model " << m;
+      }
+    }
+  }
+  // Most objects have two models they cannot be: the test covers rejections.
+  EXPECT_GT(rejected, objects.size());
 }
 
 TEST_F(RegistrationTest, ObjectsTooSmallAreRecordedNotRegistered) {

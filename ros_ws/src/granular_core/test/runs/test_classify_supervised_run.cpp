@@ -162,6 +162,14 @@ TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
   std::vector<Object> fewer(test_.begin(), test_.end() - 1);
   const fs::path short_ndt = results("short_ndt.json", "ndt", fewer, 3.0);
   EXPECT_NE(refusal({icp, short_ndt}).find("lists other objects"), std::string::npos);
+  // Written with early rejection: some models' fitness was never computed.
+  nlohmann::json early = nlohmann::json::parse(read(ndt));
+  early["objects"][0]["per_model"]["Sedan"]["fitness"] = nullptr;
+  early["objects"][0]["per_model"]["Sedan"]["rejected"] = true;
+  const fs::path rejected = write("rejected.json", early.dump());
+  EXPECT_NE(refusal({icp, rejected}).find(rejected.string() + ": written with --early-rejection"),
+            std::string::npos)
+      << refusal({icp, rejected});
   // Not a results file at all.
   const fs::path broken = write("broken.json", "{\"models\": [\"Sedan\"]");
   EXPECT_NE(refusal({icp, broken}).find(broken.string() + ": not a classify_registration"),

@@ -60,8 +60,13 @@ ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
 struct PairResult {
   RegistrationState state = RegistrationState::kTooFewPoints;
   /// m^2: mean squared distance of the aligned object points to their nearest model points
-  /// (PCL's getFitnessScore()); infinity when the registration did not run.
+  /// (PCL's getFitnessScore()); infinity when the registration did not run, or when the
+  /// fitness was rejected early.
   double fitness = std::numeric_limits<double>::infinity();
+  /// The fitness was not computed: a lower bound of it showed that this model could be
+  /// neither the best nor the second best of the object under criterion 2 or 3
+  /// (RegisterOptions::early_rejection).
+  bool rejected = false;
   int iterations = 0;  ///< iterations run
   /// Maps the object onto the model (homogeneous, object frame to model frame).
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();
@@ -91,7 +96,8 @@ struct PreparedModels {
 class ModelAligner {
  public:
   virtual ~ModelAligner() = default;
-  /// Registers `source` (at least minimumSourcePoints points) to model `model`.
+  /// Registers `source` (at least minimumSourcePoints points) to model `model`: everything but
+  /// the fitness, which the caller scores with the model's NearestTree.
   virtual PairResult align(const ModelCloud::ConstPtr& source, std::size_t model) = 0;
 };
 

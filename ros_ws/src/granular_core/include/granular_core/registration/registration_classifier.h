@@ -17,6 +17,14 @@ struct RegisterOptions {
   int threads = 0;
   /// Called with (objects done, objects to do), from one thread at a time; may be empty.
   std::function<void(std::size_t, std::size_t)> progress;
+  /// Computes an object's fitness only for the models that can still decide its predictions:
+  /// the models are scored in the order of a lower bound of their fitness (from each model's
+  /// distance field), and a model whose bound exceeds the second lowest fitness so far among
+  /// those its criterion compares (the converged ones for a converged model, all for another)
+  /// is marked `rejected`, without a fitness. Every prediction of the three criteria, and
+  /// the best and second best fitness of criteria 2 and 3, are those of the full scoring;
+  /// the rejected models' fitness is missing, which svm_fitness's features need.
+  bool early_rejection = false;
 };
 
 /// The number of threads registerObjects runs on with `options`.
@@ -48,6 +56,11 @@ class RegistrationClassifier {
   /// config.ndt.min_points_per_voxel points at config.ndt.resolution: PCL's NDT then aligns
   /// nothing to it, and its pairs are kNoCorrespondences with the fitness of the object as is.
   const std::vector<std::string>& warnings() const;
+
+  /// Builds what RegisterOptions::early_rejection reads (each model's distance field, about
+  /// 50 ms of one core for seven car-sized models), once; registerObjects calls it when asked
+  /// to reject early, so call it beforehand only to keep that out of the first call's time.
+  void prepareEarlyRejection() const;
 
   /// result[i][m]: object i against model m. Objects are used as given except for
   /// config.source_min_z; see minimumSourcePoints for small objects.

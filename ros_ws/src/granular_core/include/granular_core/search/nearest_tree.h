@@ -9,6 +9,7 @@
 
 #include "granular_core/point_types.h"
 #include "granular_core/search/bounded_grid.h"
+#include "granular_core/search/distance_bound.h"
 #include "granular_core/search/nearest_grid.h"
 #include "granular_core/search/nearest_points.h"
 
@@ -80,6 +81,19 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   /// point (m^2); the largest double for an empty source or model.
   double fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const;
 
+  /// The source as fitness() measures it: `source` moved by `transform` (PCL's
+  /// transformPointCloud), into `moved`.
+  static void moveForFitness(const ModelCloud& source, const Eigen::Matrix4f& transform,
+                             ModelCloud& moved);
+  /// fitness() of a source moved by moveForFitness: the same value to the bit.
+  double fitnessOfMoved(const ModelCloud& moved) const;
+
+  /// Builds the DistanceBound that fitnessLowerBound() reads (cells `cell` m wide, `margin` m
+  /// beyond the model's box); after setInputCloud. Without it the lower bound is 0.
+  void buildFitnessBound(float cell, float margin);
+  /// At most fitnessOfMoved(moved), in constant time a point; 0 without buildFitnessBound.
+  double fitnessLowerBound(const ModelCloud& moved) const;
+
  private:
   // The nearest point closer than `bound` (squared): from the grid, or from the kd-tree when
   // the grid cannot settle it, bounded by what the grid found.
@@ -95,6 +109,7 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
   std::unique_ptr<NearestGrid> grid_;     ///< without a correspondence bound
   std::unique_ptr<BoundedGrid> bounded_;  ///< with one
   std::unique_ptr<NearestPoints> tree_;
+  std::unique_ptr<DistanceBound> fitness_bound_;
   float correspondence_bound_ = std::numeric_limits<float>::infinity();
 };
 

@@ -1,0 +1,86 @@
+#include "granular_core/search/distance_bound.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace granular {
+namespace {
+
+// FLANN's float squared distances may lie a few units in the last place off the exact ones
+// (relative 1e-6 at most), both the cells' and the queries': the bound gives up that much, and
+// a micrometre for the arithmetic in between.
+constexpr double kRelativeSlack = 1.0e-5;
+constexpr double kAbsoluteSlack = 1.0e-6;  // m
+
+// The centre of cell `index` along one axis, computed the same way wherever it is used.
+inline float cellCentre(float origin, int index, float cell) {
+  return origin + (static_cast<float>(index) + 0.5f) * cell;
+}
+
+}  // namespace
+
+DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestPoints& tree,
+                             float cell, float margin)
+    : cell_(cell) {
+  if (count == 0) {
+    throw std::invalid_argument("DistanceBound: no points");
+  }
+  if (!(cell > 0.0f) || !(margin >= 0.0f)) {
+    throw std::invalid_argument("DistanceBound: the cell must be positive, the margin not negative");
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    low_[axis] = high_[axis] = xyz[axis];
+  }
+  for (std::size_t i = 1; i < count; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low_[axis] = std::min(low_[axis], xyz[3 * i + axis]);
+      high_[axis] = std::max(high_[axis], xyz[3 * i + axis]);
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    origin_[axis] = low_[axis] - margin;
+    size_[axis] = static_cast<int>(std::ceil((high_[axis] - low_[axis] + 2.0f * margin) / cell)) + 1;
+  }
+  centre_distance_.resize(static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
+  std::size_t c = 0;
+  for (int z = 0; z < size_[2]; ++z) {
+    for (int y = 0; y < size_[1]; ++y) {
+      for (int x = 0; x < size_[0]; ++x, ++c) {
+        const float centre[3] = {cellCentre(origin_[0], x, cell), cellCentre(origin_[1], y, cell),
+                                 cellCentre(origin_[2], z, cell)};
+        centre_distance_[c] = std::sqrt(tree.nearest(centre).distance);
+      }
+    }
+  }
+}
+
+float DistanceBound::squaredLowerBound(const float query[3]) const {
+  double outside = 0.0;  // to the points' box
+  int index[3];
+  bool in_grid = true;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double q = query[axis];
+    const double beyond = std::max({0.0, low_[axis] - q, q - high_[axis]});
+    outside += beyond * beyond;
+    const double offset = (q - origin_[axis]) / cell_;
+    in_grid = in_grid && offset >= 0.0 && offset < size_[axis];
+    index[axis] = in_grid ? static_cast<int>(offset) : 0;
+  }
+  double bound = std::sqrt(outside);
+  if (in_grid) {
+    double from_centre = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double d =
+          static_cast<double>(query[axis]) - cellCentre(origin_[axis], index[axis], cell_);
+      from_centre += d * d;
+    }
+    const std::size_t c =
+        (static_cast<std::size_t>(index[2]) * size_[1] + index[1]) * size_[0] + index[0];
+    bound = std::max(bound, centre_distance_[c] * (1.0 - kRelativeSlack) -
+                                std::sqrt(from_centre) - kAbsoluteSlack);
+  }
+  return static_cast<float>(bound * bound * (1.0 - kRelativeSlack));
+}
+
+}  // namespace granular

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "granular_core/search/grid_cells.h"
+
 namespace granular {
 namespace {
 
@@ -27,7 +29,8 @@ DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestP
     throw std::invalid_argument("DistanceBound: no points");
   }
   if (!(cell > 0.0f) || !(margin >= 0.0f)) {
-    throw std::invalid_argument("DistanceBound: the cell must be positive, the margin not negative");
+    throw std::invalid_argument(
+        "DistanceBound: the cell must be positive, the margin not negative");
   }
   for (int axis = 0; axis < 3; ++axis) {
     low_[axis] = high_[axis] = xyz[axis];
@@ -40,10 +43,11 @@ DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestP
   }
   for (int axis = 0; axis < 3; ++axis) {
     origin_[axis] = low_[axis] - margin;
-    size_[axis] = static_cast<int>(std::ceil((high_[axis] - low_[axis] + 2.0f * margin) / cell)) + 1;
+    const float span = high_[axis] - low_[axis] + 2.0f * margin;
+    size_[axis] = static_cast<int>(std::ceil(span / cell)) + 1;
   }
   centre_distance_.resize(static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
-  std::size_t c = 0;
+  std::size_t c = 0;  // x fastest, as cellIndex
   for (int z = 0; z < size_[2]; ++z) {
     for (int y = 0; y < size_[1]; ++y) {
       for (int x = 0; x < size_[0]; ++x, ++c) {
@@ -57,28 +61,23 @@ DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestP
 
 float DistanceBound::squaredLowerBound(const float query[3]) const {
   double outside = 0.0;  // to the points' box
-  int index[3];
-  bool in_grid = true;
   for (int axis = 0; axis < 3; ++axis) {
     const double q = query[axis];
     const double beyond = std::max({0.0, low_[axis] - q, q - high_[axis]});
     outside += beyond * beyond;
-    const double offset = (q - origin_[axis]) / cell_;
-    in_grid = in_grid && offset >= 0.0 && offset < size_[axis];
-    index[axis] = in_grid ? static_cast<int>(offset) : 0;
   }
   double bound = std::sqrt(outside);
-  if (in_grid) {
+  int coordinates[3];
+  if (cellOf(query, origin_, cell_, size_, coordinates)) {
     double from_centre = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
       const double d =
-          static_cast<double>(query[axis]) - cellCentre(origin_[axis], index[axis], cell_);
+          static_cast<double>(query[axis]) - cellCentre(origin_[axis], coordinates[axis], cell_);
       from_centre += d * d;
     }
-    const std::size_t c =
-        (static_cast<std::size_t>(index[2]) * size_[1] + index[1]) * size_[0] + index[0];
-    bound = std::max(bound, centre_distance_[c] * (1.0 - kRelativeSlack) -
-                                std::sqrt(from_centre) - kAbsoluteSlack);
+    const double centre = centre_distance_[cellIndex(coordinates, size_)];
+    bound = std::max(bound,
+                     centre * (1.0 - kRelativeSlack) - std::sqrt(from_centre) - kAbsoluteSlack);
   }
   return static_cast<float>(bound * bound * (1.0 - kRelativeSlack));
 }

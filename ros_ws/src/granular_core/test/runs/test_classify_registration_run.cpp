@@ -1,6 +1,7 @@
 // classifyFolder and its JSON records.
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/runs/classify_registration_run.h"
+#include "support/model_clouds.h"
 #include "support/registration_scene.h"
 
 namespace granular {
@@ -51,6 +53,43 @@ TEST_F(ClassifyFolderTest, ClassifiesEveryObjectAndWritesItsRecord) {
     EXPECT_NEAR(transform[k].get<double>(), k % 5 == 0 ? 1.0 : 0.0, 0.05) << k;
   }
   EXPECT_EQ(full["objects"][0]["per_model"]["Tall"]["fitness"], first["per_model"]["Tall"]["fitness"]);
+}
+
+TEST_F(ClassifyFolderTest, EarlyRejectionWritesTheSamePredictionsAndMarksWhatItSkipped) {
+  // Two more models, so that an object has models that are neither its best nor its second.
+  std::mt19937 random(4);
+  writeModelPcd(root_ / "models" / "Small.pcd",
+                testing_clouds::boxSurface({1.0, 0.8, 1.0}, 2000, random));
+  writeModelPcd(root_ / "models" / "Huge.pcd",
+                testing_clouds::boxSurface({10.0, 2.5, 3.0}, 6000, random));
+  const ClassificationRun full =
+      classifyFolder(root_ / "models", root_ / "objects", RegistrationMethod::kNdt, converging());
+  ClassifyFolderOptions early;
+  early.registration.early_rejection = true;
+  const ClassificationRun fast = classifyFolder(root_ / "models", root_ / "objects",
+                                                RegistrationMethod::kNdt, converging(), early);
+  writeClassificationJson(root_ / "full.json", full);
+  writeClassificationJson(root_ / "fast.json", fast);
+  std::ifstream full_stream(root_ / "full.json");
+  std::ifstream fast_stream(root_ / "fast.json");
+  const nlohmann::json expected = nlohmann::json::parse(full_stream);
+  const nlohmann::json got = nlohmann::json::parse(fast_stream);
+  EXPECT_EQ(got["accuracy"], expected["accuracy"]);
+  std::size_t rejected = 0;
+  for (std::size_t i = 0; i < objects_.size(); ++i) {
+    EXPECT_EQ(got["objects"][i]["predictions"], expected["objects"][i]["predictions"]) << i;
+    for (const auto& [model, pair] : got["objects"][i]["per_model"].items()) {
+      const nlohmann::json& reference = expected["objects"][i]["per_model"][model];
+      if (pair.value("rejected", false)) {
+        ++rejected;
+        EXPECT_TRUE(pair["fitness"].is_null());
+        EXPECT_TRUE(reference["fitness"].is_number());
+      } else {
+        EXPECT_EQ(pair, reference) << i << " " << model;
+      }
+    }
+  }
+  EXPECT_GE(rejected, objects_.size());  // most objects have two models they cannot be
 }
 
 TEST_F(ClassifyFolderTest, AMissingModelIsAWarningAndItsObjectsCountAsWrong) {

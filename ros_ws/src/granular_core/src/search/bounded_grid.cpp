@@ -32,14 +32,11 @@ BoundedGrid::BoundedGrid(const float* xyz, std::size_t count, float bound)
     return;
   }
   const double reach = std::sqrt(static_cast<double>(bound)) + kSlack;
-  double low[3] = {xyz[0], xyz[1], xyz[2]};
-  double high[3] = {xyz[0], xyz[1], xyz[2]};
-  for (std::size_t i = 1; i < count; ++i) {
-    for (int axis = 0; axis < 3; ++axis) {
-      low[axis] = std::min(low[axis], static_cast<double>(xyz[3 * i + axis]));
-      high[axis] = std::max(high[axis], static_cast<double>(xyz[3 * i + axis]));
-    }
-  }
+  float box_low[3];
+  float box_high[3];
+  boxOfPoints(xyz, count, box_low, box_high);
+  double low[3] = {box_low[0], box_low[1], box_low[2]};
+  double high[3] = {box_high[0], box_high[1], box_high[2]};
   // The grid covers the points and the bound around them: a query beyond has no point near.
   double volume = 1.0;
   for (int axis = 0; axis < 3; ++axis) {

@@ -32,18 +32,10 @@ DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestP
     throw std::invalid_argument(
         "DistanceBound: the cell must be positive, the margin not negative");
   }
+  boxOfPoints(xyz, count, box_.low, box_.high);
   for (int axis = 0; axis < 3; ++axis) {
-    low_[axis] = high_[axis] = xyz[axis];
-  }
-  for (std::size_t i = 1; i < count; ++i) {
-    for (int axis = 0; axis < 3; ++axis) {
-      low_[axis] = std::min(low_[axis], xyz[3 * i + axis]);
-      high_[axis] = std::max(high_[axis], xyz[3 * i + axis]);
-    }
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    origin_[axis] = low_[axis] - margin;
-    const float span = high_[axis] - low_[axis] + 2.0f * margin;
+    origin_[axis] = box_.low[axis] - margin;
+    const float span = box_.high[axis] - box_.low[axis] + 2.0f * margin;
     size_[axis] = static_cast<int>(std::ceil(span / cell)) + 1;
   }
   centre_distance_.resize(static_cast<std::size_t>(size_[0]) * size_[1] * size_[2]);
@@ -60,13 +52,8 @@ DistanceBound::DistanceBound(const float* xyz, std::size_t count, const NearestP
 }
 
 float DistanceBound::squaredLowerBound(const float query[3]) const {
-  double outside = 0.0;  // to the points' box
-  for (int axis = 0; axis < 3; ++axis) {
-    const double q = query[axis];
-    const double beyond = std::max({0.0, low_[axis] - q, q - high_[axis]});
-    outside += beyond * beyond;
-  }
-  double bound = std::sqrt(outside);
+  // The box's bound needs no slack: boxDistance never exceeds FLANN's distance to a point in it.
+  float bound = boxDistance(query, box_);
   int coordinates[3];
   if (cellOf(query, origin_, cell_, size_, coordinates)) {
     double from_centre = 0.0;
@@ -76,10 +63,13 @@ float DistanceBound::squaredLowerBound(const float query[3]) const {
       from_centre += d * d;
     }
     const double centre = centre_distance_[cellIndex(coordinates, size_)];
-    bound = std::max(bound,
-                     centre * (1.0 - kRelativeSlack) - std::sqrt(from_centre) - kAbsoluteSlack);
+    const double beyond =
+        centre * (1.0 - kRelativeSlack) - std::sqrt(from_centre) - kAbsoluteSlack;
+    if (beyond > 0.0) {
+      bound = std::max(bound, static_cast<float>(beyond * beyond * (1.0 - kRelativeSlack)));
+    }
   }
-  return static_cast<float>(bound * bound * (1.0 - kRelativeSlack));
+  return bound;
 }
 
 }  // namespace granular

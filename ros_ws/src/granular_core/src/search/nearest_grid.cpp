@@ -24,14 +24,9 @@ NearestGrid::NearestGrid(const float* xyz, std::size_t count, int max_rings)
     cell_start_.assign(1, 0);
     return;
   }
-  float low[3] = {xyz[0], xyz[1], xyz[2]};
-  float high[3] = {xyz[0], xyz[1], xyz[2]};
-  for (std::size_t i = 1; i < count; ++i) {
-    for (int axis = 0; axis < 3; ++axis) {
-      low[axis] = std::min(low[axis], xyz[3 * i + axis]);
-      high[axis] = std::max(high[axis], xyz[3 * i + axis]);
-    }
-  }
+  float low[3];
+  float high[3];
+  boxOfPoints(xyz, count, low, high);
   // A flat or thin cloud still gets a volume, so that the cell size stays sensible.
   double volume = 1.0;
   double longest = 0.0;

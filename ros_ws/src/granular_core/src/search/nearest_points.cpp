@@ -15,24 +15,6 @@ constexpr std::uint32_t kLeafPoints = 128;
 constexpr float kFarAway = 1.0e18f;
 constexpr int kMaxDepth = 64;
 
-// Squared distance from `query` to a box, summed in the same axis order as flannSquaredDistance
-// and from per-axis terms no larger than any contained point's: rounding is monotonic, so it
-// never exceeds flannSquaredDistance(query, p) for a point p in the box, and pruning by it is exact.
-template <typename Box>
-inline float boxDistance(const float* query, const Box& box) {
-  float result = 0.0f;
-  for (int axis = 0; axis < 3; ++axis) {
-    float step = 0.0f;
-    if (query[axis] < box.low[axis]) {
-      step = box.low[axis] - query[axis];
-    } else if (query[axis] > box.high[axis]) {
-      step = query[axis] - box.high[axis];
-    }
-    result += step * step;
-  }
-  return result;
-}
-
 }  // namespace
 
 NearestPoints::NearestPoints(const float* xyz, std::size_t count)

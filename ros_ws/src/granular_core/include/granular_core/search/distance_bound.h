@@ -26,8 +26,11 @@ class DistanceBound {
   float squaredLowerBound(const float query[3]) const;
 
  private:
-  float low_[3];   ///< the points' box
-  float high_[3];
+  struct Box {
+    float low[3];
+    float high[3];
+  };
+  Box box_;          ///< the points' box
   float origin_[3];  ///< the grid's corner
   float cell_;
   int size_[3] = {0, 0, 0};

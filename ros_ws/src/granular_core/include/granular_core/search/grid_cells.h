@@ -11,6 +11,19 @@
 
 namespace granular {
 
+/// The box of `count` points (at least one) given as x y z floats: its corners, x y z.
+inline void boxOfPoints(const float* xyz, std::size_t count, float low[3], float high[3]) {
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = high[axis] = xyz[axis];
+  }
+  for (std::size_t i = 1; i < count; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      low[axis] = std::min(low[axis], xyz[3 * i + axis]);
+      high[axis] = std::max(high[axis], xyz[3 * i + axis]);
+    }
+  }
+}
+
 /// Calls visit(cell) for every cell of the box of cells [low, high] (x y z) that lies in a
 /// grid of `size` cells, cell = (z * size[1] + y) * size[0] + x.
 template <typename Visit>

@@ -20,6 +20,25 @@ inline float flannSquaredDistance(const float* a, const float* b) {
   return result;
 }
 
+/// The squared distance from `query` to a box (its `low` and `high` corners, x y z), summed in
+/// flannSquaredDistance's axis order from per-axis terms no larger than any contained point's:
+/// rounding is monotonic, so it never exceeds flannSquaredDistance(query, p) for a point p in
+/// the box, and pruning (or bounding) by it is exact.
+template <typename Box>
+inline float boxDistance(const float* query, const Box& box) {
+  float result = 0.0f;
+  for (int axis = 0; axis < 3; ++axis) {
+    float step = 0.0f;
+    if (query[axis] < box.low[axis]) {
+      step = box.low[axis] - query[axis];
+    } else if (query[axis] > box.high[axis]) {
+      step = query[axis] - box.high[axis];
+    }
+    result += step * step;
+  }
+  return result;
+}
+
 /// Exact nearest-point search in a fixed cloud: a kd-tree with a bounding box on every node,
 /// searched nearest box first without allocation. With a good bound (the caller's guess of the
 /// distance) a query far from the cloud visits only the few nodes whose boxes come that close,

@@ -23,6 +23,25 @@ namespace {
 constexpr float kFitnessBoundCell = 0.2f;
 constexpr float kFitnessBoundMargin = 0.5f;
 
+// Runs work(m) for every model m < count on every core; the first exception is rethrown once
+// all are done.
+template <typename Work>
+void forEachModel(std::size_t count, Work work) {
+  std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long m = 0; m < static_cast<long>(count); ++m) {
+    try {
+      work(static_cast<std::size_t>(m));
+    } catch (...) {
+#pragma omp critical(granular_model_error)
+      error = error ? error : std::current_exception();
+    }
+  }
+  if (error) {
+    std::rethrow_exception(error);
+  }
+}
+
 // The two lowest of the values offered.
 struct LowestTwo {
   double first = std::numeric_limits<double>::infinity();
@@ -138,29 +157,18 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   } else if (method == RegistrationMethod::kIcpNl) {
     bound = config.icp_nl.max_correspondence_distance;
   }
-  const long count = static_cast<long>(models.size());
   impl_->models.clouds.resize(models.size());
   impl_->models.trees.resize(models.size());
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long m = 0; m < count; ++m) {
-    try {
-      const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
-      NearestTree::Ptr tree(new NearestTree);
-      if (std::isfinite(bound)) {
-        tree->setCorrespondenceBound(bound);
-      }
-      tree->setInputCloud(cloud);
-      impl_->models.clouds[m] = cloud;
-      impl_->models.trees[m] = tree;
-    } catch (...) {
-#pragma omp critical(granular_model_error)
-      error = error ? error : std::current_exception();
+  forEachModel(models.size(), [&](std::size_t m) {
+    const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
+    NearestTree::Ptr tree(new NearestTree);
+    if (std::isfinite(bound)) {
+      tree->setCorrespondenceBound(bound);
     }
-  }
-  if (error) {
-    std::rethrow_exception(error);
-  }
+    tree->setInputCloud(cloud);
+    impl_->models.clouds[m] = cloud;
+    impl_->models.trees[m] = tree;
+  });
   switch (method) {
     case RegistrationMethod::kIcp:
       impl_->registration = prepareIcp(config.icp, impl_->models);
@@ -204,21 +212,11 @@ int registrationThreads(const RegisterOptions& options) {
 }
 
 void RegistrationClassifier::prepareEarlyRejection() const {
+  // An exception leaves the flag unset: the next call tries again.
   std::call_once(impl_->fitness_bounds, [this] {
-    const long count = static_cast<long>(impl_->models.trees.size());
-    std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (long m = 0; m < count; ++m) {
-      try {
-        impl_->models.trees[m]->buildFitnessBound(kFitnessBoundCell, kFitnessBoundMargin);
-      } catch (...) {
-#pragma omp critical(granular_model_error)
-        error = error ? error : std::current_exception();
-      }
-    }
-    if (error) {
-      std::rethrow_exception(error);  // the flag stays unset: the next call tries again
-    }
+    forEachModel(impl_->models.trees.size(), [this](std::size_t m) {
+      impl_->models.trees[m]->buildFitnessBound(kFitnessBoundCell, kFitnessBoundMargin);
+    });
   });
 }
 

@@ -96,9 +96,6 @@ int NearestTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices&
 }
 
 double NearestTree::fitness(const ModelCloud& source, const Eigen::Matrix4f& transform) const {
-  if (mapping_.empty() || source.empty()) {
-    return std::numeric_limits<double>::max();
-  }
   ModelCloud moved;
   moveForFitness(source, transform, moved);
   return fitnessOfMoved(moved);

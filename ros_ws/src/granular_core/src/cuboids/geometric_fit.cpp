@@ -72,7 +72,8 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
       prior != nullptr ? cuboids::lengthAxis(cuboids::bodyExtent(*levelled, rectangle),
                                              prior->width, config_.geometric.width_tolerance,
                                              rectangle.coordinates(rectangle.centre() -
-                                                                   levelled->sensor))
+                                                                   levelled->sensor),
+                                             [&] { return cuboids::acrossShortfall(*levelled); })
                        : longer;
   if (prior != nullptr) {
     cuboids::SeenEmpty seen_empty;

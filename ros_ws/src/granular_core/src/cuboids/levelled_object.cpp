@@ -123,18 +123,57 @@ Eigen::Vector2d bodyExtent(const LevelledObject& object, const AxisRectangle& re
   return extentAbove(object, rectangle, object.top / 3);
 }
 
+double acrossShortfall(const LevelledObject& object) {
+  // Bearings from the object's mean direction, so that none wraps around at +-180 degrees.
+  Eigen::Vector2d middle = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector3d& point : object.points) {
+    middle += point.head<2>() - object.sensor;
+  }
+  std::vector<double> bearings;
+  bearings.reserve(object.points.size());
+  for (const Eigen::Vector3d& point : object.points) {
+    const Eigen::Vector2d from_sensor = point.head<2>() - object.sensor;
+    bearings.push_back(std::atan2(middle.x() * from_sensor.y() - middle.y() * from_sensor.x(),
+                                  middle.dot(from_sensor)));
+  }
+  std::sort(bearings.begin(), bearings.end());
+  // Returns of one column (one bearing, several rings) differ by rounding only.
+  constexpr double kSameBearing = 1.0e-4;  // rad
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < bearings.size(); ++i) {
+    if (bearings[i] - bearings[i - 1] > kSameBearing) {
+      steps.push_back(bearings[i] - bearings[i - 1]);
+    }
+  }
+  if (steps.empty()) {
+    return 0.0;
+  }
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return 2.0 * object.range * std::tan(steps[steps.size() / 2]);
+}
+
 int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,
-               const Eigen::Vector2d& sight) {
+               const Eigen::Vector2d& sight, const std::function<double()>& across_shortfall) {
   const int longer = seen.x() >= seen.y() ? 0 : 1;
-  const double longer_gap = std::abs(seen[longer] - width);
-  const double shorter_gap = std::abs(seen[1 - longer] - width);
   if (seen[longer] > width + tolerance) {
     return longer;
   }
+  const int across = std::abs(sight.x()) >= std::abs(sight.y()) ? 1 : 0;
+  // How far each extent is from the class's width; across the line of sight, a face that
+  // looks narrower may be as wide as the class.
+  const auto gapToWidth = [&](int axis) {
+    double gap = std::abs(seen[axis] - width);
+    if (axis == across && seen[axis] < width - tolerance && across_shortfall) {
+      gap = std::max(0.0, gap - across_shortfall());
+    }
+    return gap;
+  };
+  const double longer_gap = gapToWidth(longer);
+  const double shorter_gap = gapToWidth(1 - longer);
   // Both as wide as the class: the object is seen end on, the roof or bonnet making it look
   // deep along the line of sight, which is then the length.
   if (longer_gap <= tolerance && shorter_gap <= tolerance) {
-    return std::abs(sight.x()) >= std::abs(sight.y()) ? 0 : 1;
+    return 1 - across;
   }
   return longer_gap <= shorter_gap ? 1 - longer : longer;
 }

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -115,6 +116,13 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
   const std::vector<Eigen::Vector3d> points = thinned(levelled->points, config.model.voxel);
   const AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config.lshape);
   const Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
+  std::optional<double> shortfall;  // the same for every model: computed once, if asked
+  const auto across_shortfall = [&] {
+    if (!shortfall) {
+      shortfall = cuboids::acrossShortfall(*levelled);
+    }
+    return *shortfall;
+  };
 
   // Every placement, measured where it was placed.
   std::vector<Hypothesis> hypotheses;
@@ -125,7 +133,8 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
     // With two headings, the length axis the geometric fit would take with this model's size.
     const int geometric_axis =
         cuboids::lengthAxis(body, size.y(), config.geometric.width_tolerance,
-                            rectangle.coordinates(rectangle.centre() - levelled->sensor));
+                            rectangle.coordinates(rectangle.centre() - levelled->sensor),
+                            across_shortfall);
     for (int axis = 0; axis < 2; ++axis) {
       if (config.model.headings == 2 && axis != geometric_axis) {
         continue;

@@ -1,6 +1,7 @@
 // Geometric cuboid fitting: the L-shape rectangle, size priors grown from the seen corner, the
 // ground's tilt.
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -329,6 +330,37 @@ TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {
     }
   }
   expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
+}
+
+TEST(GeometricFitTest, AFarTruckSeenEndOnBetweenSparseColumnsIsLongAlongTheLineOfSight) {
+  const GroundPlane ground = road();
+  CuboidConfig config = carPrior();
+  config.priors = {{"BoxTruck", {7.2, 2.4, 3.3}}};
+  config.geometric.classes = {"BoxTruck"};
+  StandingBox truck;
+  truck.centre = {49.0, 0.0};
+  truck.size = {7.2, 2.4, 3.3};
+  // A 1 degree scan 45 m away (the simulator's): three columns of returns 0.79 m apart on the
+  // 2.4 m rear face, so that it looks 1.6 m wide, and above the cab the box's face 2 m
+  // deeper, so that the truck looks as deep as a truck is wide. Taken across the line of sight
+  // instead, its 7.2 m stood sideways, 3.7 m from the truck's centre.
+  std::vector<Eigen::Vector3d> seen;
+  for (const double bearing : {-1.0, 0.0, 1.0}) {
+    for (const auto& [depth, heights] :
+         {std::make_pair(0.0, std::vector<double>{0.5, 1.0, 1.5, 2.0}),
+          std::make_pair(2.0, std::vector<double>{2.6, 3.2})}) {
+      const double x = 45.4 + depth;
+      for (const double height : heights) {
+        seen.emplace_back(x, x * std::tan(bearing * kDeg), height);
+      }
+    }
+  }
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(view(seen, ground));
+  ASSERT_TRUE(fitted);
+  EXPECT_LT(headingError(fitted->box, ground, truck.yaw), 1.0);
+  EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
+  // Its width grows from columns around the line of sight, either way.
+  EXPECT_LT(centreError(fitted->box, ground, truck), 0.5);
 }
 
 TEST(GeometricFitTest, ADimensionLongerThanThePriorStays) {

@@ -128,6 +128,19 @@ def test_an_unreadable_detections_file_stops_the_import_before_any_write(frames,
     assert hostile.snapshot(frames / "detections_3d") == before
 
 
+def test_export_never_replaces_the_folder_it_reads(frames, tmp_path):
+    # Even with --overwrite: the frames folder itself, or a granular folder holding it.
+    run = tmp_path / "run"
+    shutil.copytree(frames, run / "frames")
+    (run / ".granular.json").write_text('{"tool": "run_cuboids"}')
+    for folder, out in ((frames, frames), (run / "frames", run)):
+        before = hostile.snapshot(folder)
+        result = hostile.run(hostile.tool("granular_tools", "kitti_labels") + [
+            "export", folder, "--out", out, "--overwrite"])
+        hostile.assert_fails_clearly(result, 1, "would replace the input")
+        assert hostile.snapshot(folder) == before
+
+
 def test_export_does_not_replace_a_users_folder(frames, tmp_path):
     mine = hostile.user_folder(tmp_path / "mine")
     result = hostile.run(hostile.tool("granular_tools", "kitti_labels") + [

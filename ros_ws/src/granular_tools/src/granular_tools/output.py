@@ -137,6 +137,19 @@ def check_output_folder(target, overwrite, hint=None):
                           "replace them")
 
 
+def check_output_apart(target, inputs, error=OutputError):
+    """Raise `error` when the output `target` is, or holds, one of `inputs` (paths; None and ""
+    are skipped): replacing it would lose the input."""
+    real_target = os.path.realpath(target)
+    for path in inputs:
+        if not path:
+            continue
+        real = os.path.realpath(path)
+        if real == real_target or real.startswith(real_target + os.sep):
+            raise error(f"{target}: the output would replace the input {path}; choose another "
+                        "output")
+
+
 def _manifest(tool):
     return json.dumps({"tool": tool, "version": VERSION,
                        "written": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())},
@@ -302,15 +315,18 @@ class OutputFolder:
             folder.commit()
     """
 
-    def __init__(self, target, tool, overwrite=False, hint=None):
+    def __init__(self, target, tool, overwrite=False, hint=None, inputs=()):
+        """`inputs`: the run's input files and folders, which the output may not replace."""
         self.target = absolute(target)
         self.tool, self.overwrite, self.hint = tool, overwrite, hint
+        self.inputs = tuple(inputs)
         self.staging = temporary_sibling(self.target, "partial")
         self.cleared = []
         self._lock = None
         self._committed = False
 
     def __enter__(self):
+        check_output_apart(self.target, self.inputs)
         _make_parent(self.target)
         self._lock = _Lock(self.target, self.tool)
         try:

@@ -103,7 +103,7 @@ def convert(bag_path, folder, config, reporter=None):
 def convert_into_new_folder(bag_path, out, config, overwrite, reporter=None):
     """Convert into a staging sibling of `out`, put in place only when complete (OutputFolder:
     locked, never replacing a folder that no granular tool wrote)."""
-    with OutputFolder(out, "bag_to_files", overwrite) as folder:
+    with OutputFolder(out, "bag_to_files", overwrite, inputs=(bag_path,)) as folder:
         prepare_output(folder.staging)
         stats = convert(bag_path, folder.staging, config, reporter)
         folder.commit()

@@ -19,7 +19,8 @@ import numpy as np
 
 from .. import progress
 from ..bag_to_files.pcd import CloudError
-from ..output import OutputError, OutputFolder, run_main, save_figure, write_file
+from ..output import (OutputError, OutputFolder, check_output_apart, run_main, save_figure,
+                      write_file)
 from .cuboid_matching import (CENTRE_TOLERANCE_M, CRITERIA, CRITERION_TITLES, DEFAULT_CLASS_MAP,
                               ERROR_KEYS, GATE_M, TOOL, YAW_TOLERANCE_DEG, CuboidError, Filters,
                               Settings, UsageError, evaluate, load_class_map)
@@ -153,17 +154,6 @@ def write_report(folder, summary, errors):
     plot_histograms(errors, folder)
 
 
-def check_output_apart(out, *inputs):
-    """Refuse an output folder that is, or holds, an input folder: replacing it would lose
-    the input."""
-    target = os.path.realpath(out)
-    for path in inputs:
-        real = os.path.realpath(path)
-        if real == target or real.startswith(target + os.sep):
-            raise UsageError(f"{out}: the output folder would replace the input {path}; "
-                             "choose another folder")
-
-
 def printed_table(summary):
     overall, frames = summary["overall"], summary["frames"]
     lines = [f"{TOOL}: {frames['truth']} frames ({len(frames['without_predictions'])} without "
@@ -258,7 +248,7 @@ def main(argv=None):
     args = parser().parse_args(argv)
 
     def body():
-        check_output_apart(args.out, args.truth, args.predicted)
+        check_output_apart(args.out, (args.truth, args.predicted), UsageError)
         class_map, source = DEFAULT_CLASS_MAP, "default"
         if args.class_map:
             class_map, source = load_class_map(args.class_map), args.class_map

@@ -279,7 +279,8 @@ def make_report(results_folder, out, model_pictures=None, feature_objects=None, 
     classes = ordered_classes({r["true_label"] for by_t in results.values()
                                for res in by_t.values() for r in res["objects"]})
     # A report replaces the report it regenerates, never a folder of other files.
-    with OutputFolder(out, "make_report", overwrite=True) as folder:
+    with OutputFolder(out, "make_report", overwrite=True,
+                      inputs=(results_folder, model_pictures, feature_objects, objects)) as folder:
         staging = folder.staging
         os.makedirs(os.path.join(staging, "confusion"))
         os.makedirs(os.path.join(staging, "precision_recall"))

@@ -143,7 +143,8 @@ def export_labels(args):
                                     args.decimals))
             counts[entry.detection.get("label", "")] += 1
         files[stem + LABEL_SUFFIX] = "".join(line + "\n" for line in lines)
-    with OutputFolder(args.out, TOOL, args.overwrite) as folder:
+    with OutputFolder(args.out, TOOL, args.overwrite,
+                      inputs=(args.folder, args.calib)) as folder:
         for file_name, text in files.items():
             with open(os.path.join(folder.staging, file_name), "w", encoding="utf-8") as stream:
                 stream.write(text)

@@ -110,7 +110,7 @@ def render_folder(models_folder, out=None, overwrite=False):
         empty = [name for name, xyz in models.items() if len(xyz) == 0]
         if empty:
             raise CloudError(f"{folder}: models without points: {', '.join(empty)}")
-        with OutputFolder(out, "render_models", overwrite) as pictures:
+        with OutputFolder(out, "render_models", overwrite, inputs=(folder,)) as pictures:
             staging = pathlib.Path(pictures.staging)
             for name, xyz in models.items():
                 render_model(name, xyz, str(staging / f"{encode_label(name)}.png"))

@@ -1,5 +1,6 @@
 """kitti_to_bag: KITTI boxes in the LiDAR frame hold the points KITTI's own frame puts in them;
 labels survive a round trip; bad input stops the run with the file named and no bag left."""
+import argparse
 import math
 import os
 import pathlib
@@ -355,6 +356,31 @@ def test_an_output_folder_that_does_not_exist_is_exit_1(kitti_fixture, tmp_path,
     status, err = run_failing([str(kitti_fixture), "--out", str(tmp_path / "no" / "x.bag"),
                                "--frames", "0"], capsys)
     assert status == 1 and "does not exist" in err
+
+
+def test_the_bag_never_replaces_a_file_it_reads(kitti_fixture, tmp_path, capsys):
+    folder = small_kitti(kitti_fixture, tmp_path / "kitti")
+    cloud = folder / "velodyne" / "000001.bin"
+    before = cloud.read_bytes()
+    status, err = run_failing([str(folder), "--out", str(cloud)], capsys)
+    assert status == 2 and "would replace the input" in err and "000001.bin" in err
+    assert cloud.read_bytes() == before
+
+
+def test_a_huge_frame_range_is_refused_before_it_is_listed(kitti_fixture, tmp_path):
+    # Listed first, 0-99999999999 took 23 GB before the out-of-memory killer stopped it.
+    for frames, message in (("0-99999999999", "frame numbers go up to"),
+                            ("0-200000", "at most 100000 at once")):
+        with pytest.raises(argparse.ArgumentTypeError, match=message):
+            kitti.parse_frames(frames)
+    assert kitti.parse_frames("0-2,1-3,9") == [0, 1, 2, 3, 9]
+
+
+def test_stamps_past_ros_times_range_are_refused_before_writing(kitti_fixture, tmp_path, capsys):
+    status, err = run_failing([str(kitti_fixture), "--out", str(tmp_path / "x.bag"),
+                               "--start-time", "4294967295.5"], capsys)
+    assert status == 2 and "past ROS time's 2^32 s" in err
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_bad_options_are_exit_2(kitti_fixture, tmp_path):

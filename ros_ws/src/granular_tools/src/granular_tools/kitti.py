@@ -24,12 +24,17 @@ from typing import Optional
 
 import numpy as np
 
-from .output import run_main, written_atomically
+from .output import check_output_apart, run_main, written_atomically
 
 VELODYNE, LABELS, CALIB, PLANES = "velodyne", "label_2", "calib", "planes"
 DONT_CARE = "DontCare"  # regions without a 3D box
 FRAME_PERIOD = 0.1  # s: the HDL-64E turns at 10 Hz
 ID_STRIDE = 1000  # detection id = frame number * ID_STRIDE + label line
+# The largest frame number whose detection ids (frame * ID_STRIDE + line) fit a uint32.
+MAX_FRAME = (0xFFFFFFFF - (ID_STRIDE - 1)) // ID_STRIDE
+# --frames may ask for at most this many frames (KITTI's object benchmark has 7,481 training
+# and 7,518 test frames): a range is counted before it is listed.
+MAX_SELECTED_FRAMES = 100_000
 CLOUD_TOPIC = "/simulator/lidar"
 DETECTIONS_TOPIC = "/simulator/ground_truth/3d_detections"
 DEFAULT_START_TIME = 1586102742.0  # s since the epoch, as the simulator's default
@@ -333,7 +338,7 @@ def plane_to_velo(plane, calib):
 
 def parse_frames(text):
     """Frame numbers of "000000-000004", "0,3,8" or "0-2,8" (sorted, unique)."""
-    frames = set()
+    ranges = []
     for item in text.split(","):
         first, sep, last = item.strip().partition("-")
         if not (first.isdigit() and (not sep or last.isdigit())):
@@ -342,8 +347,24 @@ def parse_frames(text):
         low, high = int(first), int(last if sep else first)
         if high < low:
             raise argparse.ArgumentTypeError(f"'{item}': a range runs from low to high")
-        frames.update(range(low, high + 1))
-    return sorted(frames)
+        if high > MAX_FRAME:
+            raise argparse.ArgumentTypeError(
+                f"'{item}': frame numbers go up to {MAX_FRAME} (detection ids are frame * "
+                f"{ID_STRIDE} + line, a uint32)")
+        ranges.append((low, high))
+    # Counted on the merged ranges before any is listed.
+    ranges.sort()
+    merged = [list(ranges[0])]
+    for low, high in ranges[1:]:
+        if low <= merged[-1][1] + 1:
+            merged[-1][1] = max(merged[-1][1], high)
+        else:
+            merged.append([low, high])
+    count = sum(high - low + 1 for low, high in merged)
+    if count > MAX_SELECTED_FRAMES:
+        raise argparse.ArgumentTypeError(
+            f"'{text}': {count} frames; at most {MAX_SELECTED_FRAMES} at once")
+    return [n for low, high in merged for n in range(low, high + 1)]
 
 
 def list_frames(folder):
@@ -495,6 +516,15 @@ def convert(args):
 
     started = time.monotonic()
     frames = load_frames(args.folder, args.frames, boxes=not args.no_boxes)
+    last_stamp = args.start_time + (len(frames) - 1) * FRAME_PERIOD
+    if last_stamp >= 2 ** 32:
+        raise KittiError(f"--start-time {args.start_time:.1f}: the last of {len(frames)} frames "
+                         f"would be stamped {last_stamp:.1f} s, past ROS time's 2^32 s")
+    read = [os.path.join(args.folder, VELODYNE, frame.stem + ".bin") for frame in frames]
+    if not args.no_boxes:
+        read += [os.path.join(args.folder, sub, frame.stem + ".txt") for frame in frames
+                 for sub in (CALIB, LABELS)]
+    check_output_apart(args.out, read, KittiError)
     reporter = None if args.quiet else progress.Reporter("kitti to bag", unit="frames")
     counts = write_bag(args.folder, frames, args.out, args.start_time, args.frame_id,
                        boxes=not args.no_boxes, progress=reporter)

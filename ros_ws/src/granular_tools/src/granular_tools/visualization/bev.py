@@ -6,6 +6,7 @@ segment, <stamp>.json with the segment boxes), the frame's true boxes and, when 
 of fitted cuboids in the same JSON layout.
 """
 import argparse
+import math
 import os
 
 import numpy as np
@@ -54,6 +55,10 @@ def render(saved, stamp, out, truth=None, cuboids=None, extent=None, title=None)
 
     x, y, segment = read_saved_points(os.path.join(saved, stamp + ".pcd"))
     segments, _ = load_detections(os.path.join(saved, stamp + ".json"))
+    if segment.size and segment.max() > len(segments):
+        raise CloudError(f"{os.path.join(saved, stamp + '.pcd')}: its points name segment "
+                         f"{segment.max() - 1}, but {stamp}.json lists {len(segments)} segments: "
+                         "the two files are not of one evaluate_segmentation --save")
     extent = extent or (-10.0, 50.0, -25.0, 25.0)
     inside = (x >= extent[0]) & (x <= extent[1]) & (y >= extent[2]) & (y <= extent[3])
     figure, axes = pyplot.subplots(figsize=(10, 10 * (extent[3] - extent[2]) /
@@ -93,10 +98,22 @@ def render(saved, stamp, out, truth=None, cuboids=None, extent=None, title=None)
     pyplot.close(figure)
 
 
+# m: the sides a picture's extent may have (a figure 10 inches wide is drawn at its scale).
+EXTENT_SIDES = (0.1, 1000.0)
+
+
 def _extent(text):
-    values = [float(v) for v in text.split(",")]
-    if len(values) != 4 or values[0] >= values[1] or values[2] >= values[3]:
-        raise argparse.ArgumentTypeError("expected XMIN,XMAX,YMIN,YMAX with min < max")
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    low, high = EXTENT_SIDES
+    if len(values) != 4 or not all(math.isfinite(v) for v in values) or not all(
+            low <= side <= high for side in (values[1] - values[0], values[3] - values[2])):
+        raise argparse.ArgumentTypeError(
+            f"expected XMIN,XMAX,YMIN,YMAX in metres, each side {low:g} to {high:g} m long")
+    if not 0.05 <= (values[3] - values[2]) / (values[1] - values[0]) <= 20.0:
+        raise argparse.ArgumentTypeError("the extent's sides may differ twentyfold at most")
     return tuple(values)
 
 
@@ -120,6 +137,11 @@ def main(argv=None):
                         help="metres around the sensor (default -10,50,-25,25)")
     parser.add_argument("--title", help="the picture's title (default: the stamp)")
     args = parser.parse_args(argv)
+    if not args.out.lower().endswith(".png"):
+        parser.error(f"--out {args.out}: the picture is a PNG; name it FILE.png")
+    for option, folder in (("--truth", args.truth), ("--cuboids", args.cuboids)):
+        if folder and not os.path.isdir(folder):
+            parser.error(f"{option} {folder}: no such folder")
 
     def body():
         truth = args.truth

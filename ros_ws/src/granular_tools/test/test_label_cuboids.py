@@ -190,6 +190,17 @@ def test_a_bad_config_is_exit_2_naming_the_key(tmp_path):
     hostile.assert_fails_clearly(result, 2, str(config), "classes.Car.size")
 
 
+def test_without_a_ros_master_it_says_so_and_leaves_the_folder_free(tmp_path):
+    # rospy.init_node would wait for one without end, deaf to SIGINT and SIGTERM.
+    folder, _ = frames_folder(tmp_path)
+    unused = "http://localhost:9"  # the discard port: nothing answers there
+    result = hostile.run(hostile.tool("granular_tools", "label_cuboids") + ["--frames", folder],
+                         env=dict(os.environ, ROS_MASTER_URI=unused), timeout=60)
+    hostile.assert_fails_clearly(result, 1, "no ROS master", unused)
+    with Session(folder).opened():
+        pass  # not locked
+
+
 def test_a_bag_without_boxes_gives_every_cloud_to_label(tmp_path):
     bag = bagmaker.write(tmp_path / "clouds.bag", [
         (CLOUD_TOPIC, bagmaker.cloud(0.0)), (CLOUD_TOPIC, bagmaker.cloud(0.1))])

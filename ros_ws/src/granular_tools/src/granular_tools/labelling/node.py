@@ -8,6 +8,7 @@ import sys
 import threading
 import time
 
+import rosgraph
 import rospy
 from geometry_msgs.msg import PointStamped, Vector3
 from granular_ros.srv import FitCuboid
@@ -434,6 +435,10 @@ def _prepare_frames(args):
 
 def serve(session, config, args, start):
     """The node's life, with the session open: until a stop signal, then every change saved."""
+    # rospy.init_node would wait for a master without end, deaf to the stop signals.
+    if not rosgraph.is_master_online():
+        raise OutputError(f"no ROS master at {rosgraph.get_master_uri()}: start roscore, or "
+                          "use launch/label_cuboids.launch, which starts one")
     stop = threading.Event()
     # A session ends by saving, not by unwinding mid-write: the handlers only ask for a stop.
     for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):

@@ -3,6 +3,7 @@ output under a final name (full disk, signals, a dead run's staging), and refuse
 into a folder that one is writing. Each case runs the built tool as a user would."""
 import os
 import pathlib
+import shutil
 import signal
 
 import pytest
@@ -41,6 +42,40 @@ def test_overwrite_refuses_a_folder_of_the_users_files_and_leaves_it_untouched(
     assert result.status in (1, 2), str(result)
     assert_fails_clearly(result, result.status, mine, "no granular tool wrote")
     assert snapshot(mine) == before
+    assert leftovers(tmp_path) == []
+
+
+def frames_readers(frames):
+    """Tools that read a frames folder and write a folder, with the options that make them
+    write `out`."""
+    simulated = ["--sensor-height", "2.3", "--azimuth-step", "1"]
+    return {
+        "extract_objects": lambda out: EXTRACT + ["--in", frames, "--out", out],
+        "fit_cuboids": lambda out: hostile.tool("granular_ros", "fit_cuboids") + [
+            "--frames", frames, "--out", out] + simulated,
+        "evaluate_segmentation": lambda out: hostile.tool(
+            "granular_ros", "evaluate_segmentation") + ["--frames", frames, "--save", out]
+        + simulated,
+        "bag_to_files": lambda out: BAG_TO_FILES + ["--bag", frames / "drive.bag", "--out", out,
+                                                    "--quiet"],
+    }
+
+
+@pytest.mark.parametrize("reader", ["extract_objects", "fit_cuboids", "evaluate_segmentation",
+                                    "bag_to_files"])
+def test_overwrite_never_replaces_the_input_it_reads(drive, tmp_path, reader):
+    # The input itself, or a granular folder holding it: before, each was replaced, exit 0.
+    run_folder = tmp_path / "run"
+    frames = run_folder / "frames"
+    frames.parent.mkdir()
+    shutil.copytree(drive / "frames", frames)
+    shutil.copy(drive / "drive.bag", frames / "drive.bag")
+    (run_folder / output.MANIFEST).write_text('{"tool": "run_pipeline"}')
+    before = snapshot(run_folder)
+    for out in (frames, run_folder):
+        result = run(frames_readers(frames)[reader](out) + ["--overwrite"])
+        assert_fails_clearly(result, 1, "the output", "input")
+        assert snapshot(run_folder) == before
     assert leftovers(tmp_path) == []
 
 

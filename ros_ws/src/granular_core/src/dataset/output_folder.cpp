@@ -145,6 +145,23 @@ fs::path absoluteOutputPath(const fs::path& path) {
   return absolute.has_filename() ? absolute : absolute.parent_path();
 }
 
+void checkOutputApart(const fs::path& target, const std::vector<fs::path>& inputs) {
+  const auto resolved = [](const fs::path& path) {
+    std::error_code error;
+    const fs::path canonical = fs::weakly_canonical(fs::absolute(path), error);
+    return absoluteOutputPath(error ? fs::absolute(path) : canonical);
+  };
+  const fs::path folder = resolved(target);
+  for (const fs::path& input : inputs) {
+    const fs::path relative = resolved(input).lexically_relative(folder);
+    if (!relative.empty() && *relative.begin() != "..") {
+      throw std::runtime_error(target.string() + ": the output folder is or holds the input " +
+                               input.string() + "; refusing to replace it: choose another "
+                               "folder");
+    }
+  }
+}
+
 void checkOutputFolder(const fs::path& target, const OutputPolicy& policy) {
   std::error_code error;
   const fs::file_status status = fs::symlink_status(target, error);
@@ -211,8 +228,10 @@ std::vector<std::string> clearDeadSiblings(const fs::path& path) {
   return done;
 }
 
-OutputFolder::OutputFolder(const fs::path& target, std::string tool, const OutputPolicy& policy)
+OutputFolder::OutputFolder(const fs::path& target, std::string tool, const OutputPolicy& policy,
+                           const std::vector<fs::path>& inputs)
     : target_(absoluteOutputPath(target)), tool_(std::move(tool)) {
+  checkOutputApart(target_, inputs);
   std::error_code error;
   fs::create_directories(target_.parent_path(), error);
   if (error) {

@@ -32,12 +32,6 @@ fs::path absolutePath(const fs::path& path) {
   return absolute.has_filename() ? absolute : absolute.parent_path();
 }
 
-// True when `path` is `folder` or lies inside it.
-bool isWithin(const fs::path& path, const fs::path& folder) {
-  const fs::path relative = path.lexically_relative(folder);
-  return !relative.empty() && *relative.begin() != "..";
-}
-
 Json runJson(const fs::path& objects, const ModelBuildConfig& config, bool mesh) {
   Json run = {{"method", methodName(config.method)},
               {"objects_folder", objects.string()},
@@ -224,11 +218,7 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
   }
 
   const fs::path target = absolutePath(out);
-  if (isWithin(absolutePath(objects), target)) {
-    throw std::runtime_error(target.string() +
-                             ": output folder is or holds the objects folder; refusing to "
-                             "replace it");
-  }
+  checkOutputApart(target, {objects});
   checkOutputFolder(target, options.output);
 
   std::map<std::string, ModelCloud> seeds;
@@ -241,7 +231,7 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
     }
   }
 
-  OutputFolder output(target, "build_models", options.output);
+  OutputFolder output(target, "build_models", options.output, {objects});
   summary.cleared = output.cleared();
   const fs::path& staging = output.staging();
   fs::create_directory(staging / "raw");

@@ -208,7 +208,7 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
                              json_folder.string());
   }
 
-  OutputFolder output(out, "extract_objects", options.output);
+  OutputFolder output(out, "extract_objects", options.output, {in, json_folder});
   summary.cleared = output.cleared();
 
   std::vector<ObjectsFolder> folders;

@@ -81,7 +81,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   FitCuboidsSummary summary;
   summary.method = config::enumName(config.method);
   summary.boxes = options.boxes;
-  OutputFolder output(out, "fit_cuboids", options.output);
+  OutputFolder output(out, "fit_cuboids", options.output, {frames});
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
 

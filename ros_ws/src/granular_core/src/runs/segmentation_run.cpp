@@ -128,7 +128,8 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
 
   std::optional<OutputFolder> saved;
   if (!options.save.empty()) {
-    saved.emplace(options.save, "evaluate_segmentation", options.save_policy);
+    saved.emplace(options.save, "evaluate_segmentation", options.save_policy,
+                  std::vector<fs::path>{frames});
   }
   SegmentationEvaluation evaluation;
   evaluation.options = options;

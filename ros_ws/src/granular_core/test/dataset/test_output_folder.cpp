@@ -141,6 +141,33 @@ TEST_F(OutputFolderTest, AGranularResultIsReplacedOnlyWithOverwrite) {
   EXPECT_EQ(entries(root_), (std::set<std::string>{"out"}));
 }
 
+TEST_F(OutputFolderTest, AFolderThatIsOrHoldsAnInputIsNeverReplaced) {
+  {
+    OutputFolder first(target_, "first_tool");
+    write(first.staging() / "frames" / "pcd" / "1.pcd", "a cloud");
+    first.commit();
+  }
+  OutputPolicy policy;
+  policy.overwrite = true;
+  // The input itself, a folder inside the output, and a link to the output's folder.
+  fs::create_directory_symlink(target_, root_ / "link");
+  for (const fs::path& input :
+       {target_, target_ / "frames", root_ / "link" / "frames" / "pcd" / "1.pcd"}) {
+    try {
+      OutputFolder replacing(target_, "second_tool", policy, {root_ / "elsewhere", input});
+      ADD_FAILURE() << "accepted an output holding " << input;
+    } catch (const std::runtime_error& refused) {
+      const std::string message = refused.what();
+      EXPECT_NE(message.find("is or holds the input " + input.string()), std::string::npos)
+          << message;
+    }
+    EXPECT_EQ(read(target_ / "frames" / "pcd" / "1.pcd"), "a cloud");
+  }
+  // Beside the input, or inside it, is fine.
+  OutputFolder beside(root_ / "other", "second_tool", policy, {target_ / "frames"});
+  OutputFolder inside(target_ / "frames" / "results", "second_tool", policy, {target_ / "frames"});
+}
+
 TEST_F(OutputFolderTest, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstHoldsIt) {
   OutputFolder first(target_, "first_tool");
   const std::string message = refusal(OutputPolicy());

@@ -29,12 +29,19 @@ struct OutputPolicy {
 /// policy.overwrite. An absent or empty folder may always be written.
 void checkOutputFolder(const std::filesystem::path& target, const OutputPolicy& policy);
 
+/// Throws std::runtime_error naming both when the output folder `target` is, or holds, one of
+/// `inputs` (files or folders a run reads; symbolic links resolved): replacing it would lose
+/// the input, with --overwrite or without.
+void checkOutputApart(const std::filesystem::path& target,
+                      const std::vector<std::filesystem::path>& inputs);
+
 /// A folder a tool builds as a whole. The constructor
 ///   - takes an exclusive lock (flock on lockFileOf(target), holding the pid and tool) so that a
 ///     second run into the same folder is refused with a message naming the first;
 ///   - clears what dead runs left: staging folders and temporary files of processes that no
 ///     longer exist, and puts back a previous result that a run killed mid-swap had set aside;
-///   - checks the target (checkOutputFolder) and creates an empty staging folder beside it,
+///   - checks the target (checkOutputApart from `inputs`, the run's input files and folders;
+///     checkOutputFolder) and creates an empty staging folder beside it,
 ///     ".<name>.partial-<pid>", registered for removal on a signal (removePendingOutputs).
 /// The tool writes into staging(); commit() adds the manifest, flushes the staging folder to
 /// disk and renames it into place (the old result, if any, removed). Destroyed without commit()
@@ -42,7 +49,8 @@ void checkOutputFolder(const std::filesystem::path& target, const OutputPolicy& 
 class OutputFolder {
  public:
   OutputFolder(const std::filesystem::path& target, std::string tool,
-               const OutputPolicy& policy = {});
+               const OutputPolicy& policy = {},
+               const std::vector<std::filesystem::path>& inputs = {});
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;

@@ -72,9 +72,11 @@ OptionTable& OptionTable::value(const std::string& name, std::optional<std::stri
 OptionTable& OptionTable::threads(const std::string& name, int& field) {
   return custom(name, [&field, name](OptionReader& reader) {
     field = parseNumber<int>(name, reader.value());
-    if (field < 1) {
-      throw std::invalid_argument(name + ": expected at least 1 thread, got " +
-                                  std::to_string(field));
+    // Far more threads than any machine has cores only fail in OpenMP (or crash in it).
+    constexpr int kMaxThreads = 1024;
+    if (field < 1 || field > kMaxThreads) {
+      throw std::invalid_argument(name + ": expected 1 to " + std::to_string(kMaxThreads) +
+                                  " threads, got " + std::to_string(field));
     }
   });
 }

@@ -45,6 +45,8 @@ void validate(const CuboidConfig& config) {
                   "free_space.body_min must be below free_space.body_max");
   config::require(config.lshape.fine_step_deg <= config.lshape.coarse_step_deg,
                   "lshape.fine_step_deg must not exceed lshape.coarse_step_deg");
+  config::require(config.free_space.bin_deg == 0.0 || config.free_space.bin_deg >= 0.01,
+                  "free_space.bin_deg must be 0 (not looked at) or at least 0.01 deg");
   config::require(config.model.headings == 2 || config.model.headings == 4,
                   "model.headings must be 2 or 4");
   for (const std::string& name : config.geometric.classes) {

@@ -23,6 +23,15 @@ void validate(const GroundConfig& config) {
   config::validateFields(config);
   config::require(config.plane.seed_min_range < config.plane.seed_max_range,
                   "plane.seed_min_range must be below plane.seed_max_range");
+  // The seed and refinement grids cover the seed region, and the lines' bins every sector's
+  // range: each in memory at once.
+  constexpr double kMaxCellsASide = 4000.0;
+  config::require(2.0 * config.plane.seed_max_range / config.plane.seed_cell <= kMaxCellsASide,
+                  "2 plane.seed_max_range / plane.seed_cell must be at most 4000 cells a side");
+  config::require(2.0 * config.plane.seed_max_range / config.plane.refine_cell <= kMaxCellsASide,
+                  "2 plane.seed_max_range / plane.refine_cell must be at most 4000 cells a side");
+  config::require(config.lines.sectors * (config.lines.max_range / config.lines.bin_size) <= 1.0e7,
+                  "lines.sectors * lines.max_range / lines.bin_size must be at most 1e7 bins");
 }
 
 GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config) {

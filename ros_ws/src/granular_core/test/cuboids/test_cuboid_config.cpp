@@ -43,6 +43,10 @@ TEST(CuboidConfigTest, BadValuesNameTheField) {
   expectProblem([](CuboidConfig& c) { c.lshape.coarse_step_deg = 0.0; }, "lshape.coarse_step_deg");
   expectProblem([](CuboidConfig& c) { c.lshape.fine_step_deg = 2.0; }, "lshape.fine_step_deg");
   expectProblem([](CuboidConfig& c) { c.priors["Car"].width = -1.0; }, "priors.Car.width");
+  expectProblem([](CuboidConfig& c) { c.priors["Car"].length = 1e30; }, "priors.Car.length");
+  // Steps and bins that would take the fit hours or all memory.
+  expectProblem([](CuboidConfig& c) { c.lshape.fine_step_deg = 1e-9; }, "lshape.fine_step_deg");
+  expectProblem([](CuboidConfig& c) { c.free_space.bin_deg = 1e-9; }, "free_space.bin_deg");
   expectProblem([](CuboidConfig& c) { c.geometric.classes = {"Tram"}; }, "'Tram'");
   expectProblem([](CuboidConfig& c) { c.geometric.classes = {""}; }, "geometric.classes[0]");
   expectProblem([](CuboidConfig& c) { c.points.min_height = 5.0; }, "points.min_height");

@@ -1,5 +1,6 @@
 // The ground stage on synthetic scenes with exact answers: a tilted plane with obstacles on it.
 #include <cmath>
+#include <functional>
 #include <random>
 #include <set>
 #include <vector>
@@ -143,15 +144,26 @@ TEST(GroundTest, ANonFinitePointHasNoHeightAndIsNotGround) {
 }
 
 TEST(GroundTest, ValidateNamesTheField) {
-  GroundConfig config;
-  config.plane.eps_angle_deg = 0.0;  // PCL's default, which would turn the constraint off
-  try {
-    validate(config);
-    ADD_FAILURE() << "accepted eps_angle_deg 0";
-  } catch (const std::invalid_argument& error) {
-    EXPECT_NE(std::string(error.what()).find("plane.eps_angle_deg"), std::string::npos)
-        << error.what();
-  }
+  const auto expectRefused = [](const std::function<void(GroundConfig&)>& change,
+                                const std::string& named) {
+    GroundConfig config;
+    change(config);
+    try {
+      validate(config);
+      ADD_FAILURE() << "accepted a config that should name " << named;
+    } catch (const std::invalid_argument& error) {
+      EXPECT_NE(std::string(error.what()).find(named), std::string::npos) << error.what();
+    }
+  };
+  // PCL's default, which would turn the constraint off.
+  expectRefused([](GroundConfig& c) { c.plane.eps_angle_deg = 0.0; }, "plane.eps_angle_deg");
+  // Grids too big for memory: a millimetre seed cell was a bare std::bad_alloc, a 1e30 m seed
+  // range a crash.
+  expectRefused([](GroundConfig& c) { c.plane.seed_cell = 1e-3; }, "plane.seed_cell");
+  expectRefused([](GroundConfig& c) { c.plane.seed_max_range = 1e30; }, "plane.seed_max_range");
+  expectRefused([](GroundConfig& c) { c.plane.refine_cell = 1e-9; }, "plane.refine_cell");
+  expectRefused([](GroundConfig& c) { c.lines.bin_size = 1e-5; }, "lines.bin_size");
+  expectRefused([](GroundConfig& c) { c.lines.max_range = 1e20; }, "lines.max_range");
 }
 
 }  // namespace

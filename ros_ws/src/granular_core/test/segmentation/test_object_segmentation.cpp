@@ -354,6 +354,16 @@ TEST(ObjectSegmentationTest, ValidateNamesTheField) {
   } catch (const std::invalid_argument& error) {
     EXPECT_NE(std::string(error.what()).find("gates.max_length"), std::string::npos);
   }
+  // Steps and bins so fine that the search ran for hours or ran out of memory.
+  ObjectSegmentationConfig fine;
+  fine.walls.angle_step_deg = 1e-9;
+  EXPECT_THROW(validate(fine), std::invalid_argument);
+  fine = ObjectSegmentationConfig();
+  fine.walls.thickness = 1e-9;
+  EXPECT_THROW(validate(fine), std::invalid_argument);
+  fine = ObjectSegmentationConfig();
+  fine.gates.side_bin = 1e-9;
+  EXPECT_THROW(validate(fine), std::invalid_argument);
 }
 
 }  // namespace

@@ -56,8 +56,8 @@ struct LShapeConfig {
     using namespace config;
     visit("criterion", self.criterion);
     visit("contour_step_deg", self.contour_step_deg, interval(0, 10, "deg"));
-    visit("coarse_step_deg", self.coarse_step_deg, interval(0, 45, "deg", true));
-    visit("fine_step_deg", self.fine_step_deg, interval(0, 45, "deg", true));
+    visit("coarse_step_deg", self.coarse_step_deg, interval(0.01, 45, "deg"));
+    visit("fine_step_deg", self.fine_step_deg, interval(0.01, 45, "deg"));
     visit("closeness_d0", self.closeness_d0, positive("m"));
     visit("cell", self.cell, positive("m"));
   }
@@ -72,9 +72,10 @@ struct SizePrior {
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     using namespace config;
-    visit("length", self.length, positive("m"));
-    visit("width", self.width, positive("m"));
-    visit("height", self.height, positive("m"));
+    // At most the largest box the tools take (extraction's max_box_size).
+    visit("length", self.length, interval(0, 30, "m", true));
+    visit("width", self.width, interval(0, 30, "m", true));
+    visit("height", self.height, interval(0, 30, "m", true));
   }
 };
 

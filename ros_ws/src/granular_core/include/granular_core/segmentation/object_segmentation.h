@@ -65,7 +65,7 @@ struct SegmentGates {
     visit("side_clearance", self.side_clearance, nonNegative("m"));
     visit("side_share", self.side_share, interval(0, 1, ""));
     visit("side_top", self.side_top, nonNegative("m"));
-    visit("side_bin", self.side_bin, positive("m"));
+    visit("side_bin", self.side_bin, atLeast(0.01, "m"));
     visit("min_top", self.min_top, nonNegative("m"));
     visit("max_bottom", self.max_bottom, nonNegative("m"));
     visit("max_bottom_per_m", self.max_bottom_per_m, nonNegative("m/m"));
@@ -102,8 +102,8 @@ struct WallPeeling {
   static void fields(Self& self, Visit& visit) {
     using namespace config;
     visit("max_walls", self.max_walls, interval(0, 10, "walls"));
-    visit("thickness", self.thickness, positive("m"));
-    visit("angle_step_deg", self.angle_step_deg, interval(0, 45, "deg", true));
+    visit("thickness", self.thickness, atLeast(0.01, "m"));
+    visit("angle_step_deg", self.angle_step_deg, interval(0.01, 45, "deg"));
     visit("parallel_deg", self.parallel_deg, interval(0, 90, "deg"));
     visit("min_share", self.min_share, interval(0, 1, ""));
     visit("max_cells", self.max_cells, nonNegative("cells"));

@@ -302,9 +302,9 @@ def test_bad_option_values_name_the_option_and_value(drive, tmp_path, option, va
     assert not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("threads", ["0", "-1", "two"])
-def test_threads_below_one_are_refused_by_every_tool_that_has_the_option(drive, tmp_path,
-                                                                          threads):
+@pytest.mark.parametrize("threads", ["0", "-1", "two", "99999"])
+def test_threads_below_one_or_past_1024_are_refused_by_every_tool_that_has_the_option(
+        drive, tmp_path, threads):
     commands = [
         CLASSIFY_REGISTRATION + ["--models", drive / "models", "--objects", drive / "objects",
                                  "--method", "ndt", "--out", tmp_path / "r.json"],

@@ -89,23 +89,41 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
 // The segments of a frame as detections, labelled by the true boxes `detections`
 // (labelSegments): the background ones under the background label, and, with
 // `segment_objects`, the ones on a true box under its label, in place of the true boxes.
-// Numbered by their place among the frame's segments.
-void harvestSegments(const Cloud& cloud, const std::vector<Segment>& segments,
-                     const BackgroundConfig& config, bool segment_objects,
-                     std::vector<Detection>& detections) {
+// Numbered by their place among the frame's segments. A true box that cannot be judged on
+// (invalid, or beyond `max_box_size`, as extractObjects rejects it) may hold any segment, so
+// the frame then gives no Background objects. Returns what was wrong with such boxes when
+// `segment_objects` hides them from extractObjects.
+std::vector<std::string> harvestSegments(const Cloud& cloud, const std::vector<Segment>& segments,
+                                         const BackgroundConfig& config, bool segment_objects,
+                                         double max_box_size, std::vector<Detection>& detections) {
   std::vector<OrientedBox> truth;
   std::vector<const Detection*> truth_detection;
-  for (const Detection& detection : detections) {
+  std::vector<std::string> problems;
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    const Detection& detection = detections[i];
+    std::string problem;
     try {
-      truth.emplace_back(detection.centre, detection.orientation, detection.size);
-      truth_detection.push_back(&detection);
-    } catch (const std::invalid_argument&) {
-      // extractObjects reports the box; it cannot be judged on.
+      const OrientedBox box(detection.centre, detection.orientation, detection.size);
+      if (box.size().maxCoeff() <= max_box_size) {
+        truth.push_back(box);
+        truth_detection.push_back(&detection);
+        continue;
+      }
+      problem = "box larger than max_box_size (" + std::to_string(max_box_size) + " m)";
+    } catch (const std::invalid_argument& error) {
+      problem = error.what();
+    }
+    if (segment_objects) {
+      problems.push_back("detections[" + std::to_string(i) + "] (id " +
+                         std::to_string(detection.id) + ", " + detection.label + "): " + problem +
+                         "; skipped, and the frame gives no " + config.label +
+                         " objects (any segment may lie on the box)");
     }
   }
+  const bool judged = truth.size() == detections.size();
   std::vector<Detection> harvested;
   for (const LabelledSegment& labelled : labelSegments(cloud, segments, truth, config)) {
-    if (labelled.truth && !segment_objects) {
+    if ((labelled.truth && !segment_objects) || (!labelled.truth && !judged)) {
       continue;
     }
     const Segment& segment = segments[labelled.segment];
@@ -122,6 +140,7 @@ void harvestSegments(const Cloud& cloud, const std::vector<Segment>& segments,
   } else {
     detections.insert(detections.end(), harvested.begin(), harvested.end());
   }
+  return problems;
 }
 
 void linkOrCopy(const fs::path& from, const fs::path& to) {
@@ -242,9 +261,13 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
     const Cloud cloud = readPcd(pcd_folder / (stamp + ".pcd"));
     if (segmenter) {
-      harvestSegments(cloud, segmenter->segment(cloud).segments,
-                      options.background->segmentation.background,
-                      options.background->segment_objects, detections);
+      for (const std::string& problem :
+           harvestSegments(cloud, segmenter->segment(cloud).segments,
+                           options.background->segmentation.background,
+                           options.background->segment_objects, config.max_box_size,
+                           detections)) {
+        summary.invalid_detections.push_back(json_file.string() + ": " + problem);
+      }
     }
     const FrameExtraction extraction = extractObjects(cloud, detections, frame_config);
     summary.non_finite_points += extraction.non_finite_points;

@@ -178,6 +178,26 @@ TEST_F(TemporaryFolderTest, BackgroundIsHarvestedFromTheSegmentsOnNoTrueBox) {
   EXPECT_TRUE(summary.warnings.empty());
 }
 
+TEST_F(TemporaryFolderTest, ABoxThatCannotBeJudgedOnGivesNoBackgroundFromItsFrame) {
+  // The car labelled with a 1e30 m box: taken as it was, every segment lay on it and became a
+  // Sedan; left out silently, the car became Background. Neither is training data.
+  const fs::path in = root_ / "frames";
+  writeCarAndHedge(in, 10.0, R"({"x": 1e30, "y": 1.8, "z": 1.5})");
+  ExtractionConfig config;
+  config.n_thresh = {10};
+  for (const bool segment_objects : {false, true}) {
+    ExtractFolderOptions options;
+    options.output.overwrite = true;
+    options.background = BackgroundHarvest{testing_support::roadGround(), {}, segment_objects};
+    const ExtractFolderSummary summary = extractFolder(in, root_ / "objects", config, options);
+    EXPECT_TRUE(summary.objects.empty() || summary.objects.at(10).empty())
+        << "segment_objects " << segment_objects;
+    ASSERT_EQ(summary.invalid_detections.size(), 1u);
+    EXPECT_NE(summary.invalid_detections[0].find("max_box_size"), std::string::npos)
+        << summary.invalid_detections[0];
+  }
+}
+
 TEST_F(TemporaryFolderTest, SegmentObjectsAreTheSegmentsOnTheTrueBoxes) {
   // The car labelled with a loose box, 6 x 3 m and 0.5 m too far.
   const fs::path in = root_ / "frames";

@@ -138,8 +138,10 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     const std::string stem = file.stem().string();
     const fs::path json = frames / "detections_3d" / (stem + ".json");
     DetectionsHeader header = headerFromName(stem);
+    const bool has_truth = fs::exists(json);
+    evaluation.frames_without_truth += !has_truth;
     const std::vector<Detection> detections =
-        fs::exists(json) ? readDetectionsJson(json, &header) : std::vector<Detection>();
+        has_truth ? readDetectionsJson(json, &header) : std::vector<Detection>();
     const auto start = std::chrono::steady_clock::now();
     const ObjectSegmentation result = segmenter.segment(cloud);
     const std::vector<Segment>& segments = result.segments;
@@ -243,6 +245,13 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   std::snprintf(line, sizeof(line), "clouds: %zu (%.0f points each on average)\n", frames,
                 share(points, frames));
   out << line;
+  if (frames_without_truth > 0) {
+    std::snprintf(line, sizeof(line),
+                  "warning: %zu of the %zu clouds have no detections_3d/<stamp>.json: no true "
+                  "objects there, so all their segments count as matching nothing\n",
+                  frames_without_truth, frames);
+    out << line;
+  }
   if (options.cuboids != nullptr) {
     out << "boxes: cuboids fitted to the segments (a segment's own box where none fits)\n";
   }

@@ -2,6 +2,7 @@
 // boxes or with the cuboids fitted to them.
 #include <filesystem>
 #include <memory>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -72,6 +73,21 @@ TEST_F(EvaluateSegmentationTest, ARearFacesBoxMissesTheCarAndItsCuboidFindsIt) {
   EXPECT_EQ(fitted.found, 1u);
   EXPECT_EQ(fitted.footprint, 1u);
   EXPECT_EQ(fitted.false_segments, 0u);
+}
+
+TEST_F(EvaluateSegmentationTest, CloudsWithoutTruthAreCountedAndTheReportWarns) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(frames_ / "detections_3d")) {
+    fs::remove(entry.path());
+  }
+  const SegmentationEvaluation evaluation =
+      evaluateSegmentation(frames_, GroundConfig(), SegmentationStageConfig());
+  EXPECT_EQ(evaluation.frames_without_truth, 1u);
+  EXPECT_EQ(evaluation.visible, 0u);
+  std::ostringstream report;
+  evaluation.report(report);
+  EXPECT_NE(report.str().find("warning: 1 of the 1 clouds have no detections_3d"),
+            std::string::npos)
+      << report.str();
 }
 
 }  // namespace

@@ -46,6 +46,7 @@ struct SegmentationEvaluationOptions {
 /// A segmentation method's figures over a frames folder.
 struct SegmentationEvaluation {
   std::size_t frames = 0;
+  std::size_t frames_without_truth = 0;  ///< clouds with no detections_3d/<stamp>.json
   std::size_t points = 0;          ///< over all clouds
   std::size_t visible = 0;         ///< true objects counted (min_points, view, range)
   std::size_t found = 0;           ///< of those, with a segment centre within max_distance

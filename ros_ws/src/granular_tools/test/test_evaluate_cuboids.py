@@ -249,10 +249,14 @@ def test_a_class_map_file_replaces_the_default(tmp_path):
     ("Sedan: [Car, 3]\n", "'Sedan': expected a predicted label mapped to a true label"),
     ("- Sedan\n- Car\n", "the class map must be a mapping"),
     ("Sedan: [Car\n", "class map is not valid YAML"),
+    (b"\xff\xfe Sedan: Car\n", "not UTF-8 text"),
 ])
 def test_a_bad_class_map_is_a_usage_error_naming_the_file(tmp_path, capsys, text, message):
     class_map = tmp_path / "map.yaml"
-    class_map.write_text(text)
+    if isinstance(text, bytes):
+        class_map.write_bytes(text)
+    else:
+        class_map.write_text(text)
     status, _ = evaluate(tmp_path, {STAMP: []}, {STAMP: []}, "--class-map", str(class_map))
     assert status == 2
     err = capsys.readouterr().err
@@ -382,6 +386,12 @@ def test_missing_folder_and_invalid_json_are_one_line_errors(tmp_path):
     assert f"{truth / OTHER_STAMP}.json: not valid JSON" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "report").exists()
+    # Nested past Python's recursion limit: a RecursionError traceback before.
+    (truth / f"{OTHER_STAMP}.json").write_text("[" * 100_000)
+    result = run_script("--truth", truth, "--predicted", truth, "--out", tmp_path / "report",
+                        "--quiet")
+    assert result.returncode == 1 and "Traceback" not in result.stderr
+    assert f"{truth / OTHER_STAMP}.json: not a detections file" in result.stderr
 
 
 def test_a_malformed_box_names_the_file_and_the_key(tmp_path, capsys):

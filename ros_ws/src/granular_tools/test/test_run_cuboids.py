@@ -102,6 +102,11 @@ def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
              (["--sensor-height", "-1"], "sensor_height must be a positive number"),
              (["--boxes", "detections", "--classifier", drive / "knn.yml"],
               "it needs boxes:=segment")]
+    # A misspelt key in a config of --config-dir: a bad configuration, as for every tool.
+    configs = tmp_path / "configs"
+    configs.mkdir()
+    (configs / "bag_to_files.yaml").write_text("slopp: 0.01\n")
+    cases.append((["--config-dir", configs], "unknown key 'slopp'"))
     for arguments, message in cases:
         out = tmp_path / "run"
         result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", out]

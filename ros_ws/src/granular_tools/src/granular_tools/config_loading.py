@@ -10,7 +10,9 @@ import yaml
 
 
 class ConfigError(ValueError):
-    """A configuration file or value that cannot be used; the message names file and key."""
+    """A configuration file or value that cannot be used; the message names file and key. A
+    tool exits 2 with it (run_main), as for a bad option."""
+    status = 2
 
 
 def bounded(default=dataclasses.MISSING, *, factory=dataclasses.MISSING, above=None,
@@ -106,7 +108,10 @@ def load_yaml_over(defaults, path):
             values = yaml.safe_load(stream)
     except OSError as error:
         raise ConfigError(f"{path}: cannot read config: {error.strerror}") from error
-    except yaml.YAMLError as error:
+    except UnicodeDecodeError as error:
+        raise ConfigError(f"{path}: not UTF-8 text (byte {error.start}): not a YAML config") \
+            from error
+    except (yaml.YAMLError, RecursionError) as error:
         raise ConfigError(f"{path}: not valid YAML: {error}") from error
     if values is None:
         return defaults

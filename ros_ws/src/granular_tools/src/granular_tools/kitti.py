@@ -380,7 +380,7 @@ def list_frames(folder):
         stem, extension = os.path.splitext(name)
         if extension != ".bin":
             continue
-        if not stem.isdigit():
+        if not (stem.isascii() and stem.isdigit()):  # "²" is a digit to str.isdigit
             raise KittiError(f"{os.path.join(velodyne, name)}: not a KITTI frame name "
                              "(digits, e.g. 000008.bin)")
         number = int(stem)

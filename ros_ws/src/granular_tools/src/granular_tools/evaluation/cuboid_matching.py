@@ -124,8 +124,11 @@ def load_detections(path):
             document = json.load(stream)
     except OSError as error:
         raise CuboidError(f"{path}: cannot read: {error.strerror}") from error
-    except ValueError as error:
+    except ValueError as error:  # UnicodeDecodeError too
         raise CuboidError(f"{path}: not valid JSON ({error})") from error
+    except RecursionError as error:
+        raise CuboidError(f"{path}: not a detections file (nested too deeply to read)") \
+            from error
     entries = document.get("detections") if isinstance(document, dict) else None
     if not isinstance(entries, list):
         raise CuboidError(f"{path}: not a detections file (no 'detections' list)")
@@ -146,7 +149,10 @@ def load_class_map(path):
             values = yaml.safe_load(stream)
     except OSError as error:
         raise UsageError(f"{path}: cannot read the class map: {error.strerror}") from error
-    except yaml.YAMLError as error:
+    except UnicodeDecodeError as error:
+        raise UsageError(f"{path}: the class map is not UTF-8 text (byte {error.start})") \
+            from error
+    except (yaml.YAMLError, RecursionError) as error:
         raise UsageError(f"{path}: class map is not valid YAML: "
                          f"{' '.join(str(error).split())}") from error
     if values is None:

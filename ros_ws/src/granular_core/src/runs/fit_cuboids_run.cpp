@@ -94,8 +94,20 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       continue;
     }
     DetectionsHeader header = headerOfStamp(stamp);
-    const std::vector<Detection> detections =
-        has_json ? readDetectionsJson(json, &header) : std::vector<Detection>();
+    std::vector<Detection> detections;
+    if (has_json && options.boxes == CuboidInputs::kDetections) {
+      detections = readDetectionsJson(json, &header);
+    } else if (has_json) {
+      // Segments need only the file's header (its frame_id), never its boxes: a file that
+      // does not read is named, and the header taken from the stamp.
+      try {
+        readDetectionsJson(json, &header);
+      } catch (const std::runtime_error& error) {
+        header = headerOfStamp(stamp);
+        summary.invalid_detections.push_back(std::string(error.what()) +
+                                             "; its header taken from the stamp");
+      }
+    }
     const Cloud cloud = readPcd(frames / "pcd" / (stamp + ".pcd"));
 
     std::vector<Input> inputs;

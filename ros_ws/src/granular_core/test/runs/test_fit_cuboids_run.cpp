@@ -144,6 +144,21 @@ TEST_F(FitCuboidsFolderTest, SegmentsAreFittedAndTheFramesBoxesNeverRead) {
   }
 }
 
+TEST_F(FitCuboidsFolderTest, SegmentsDoNotNeedAReadableDetectionsFile) {
+  // Before, a malformed detections file failed the whole run, boxes it never uses.
+  write(frames_ / "detections_3d" / (stamp_ + ".json"), "{\"detections\": [");
+  const FitCuboidsSummary summary = fitCuboidsFolder(frames_, root_ / "cuboids", carPrior(),
+                                                     options(CuboidInputs::kSegments));
+  EXPECT_EQ(summary.frames, 2u);
+  ASSERT_EQ(summary.invalid_detections.size(), 1u);
+  EXPECT_NE(summary.invalid_detections[0].find(stamp_ + ".json"), std::string::npos)
+      << summary.invalid_detections[0];
+  const std::vector<Detection> cuboids =
+      readDetectionsJson(root_ / "cuboids" / (stamp_ + ".json"));
+  ASSERT_EQ(cuboids.size(), 1u);
+  expectTheCar(cuboids[0]);
+}
+
 TEST_F(FitCuboidsFolderTest, BadInputIsNamed) {
   EXPECT_THROW(fitCuboidsFolder(root_ / "absent", root_ / "out", carPrior(),
                                 options(CuboidInputs::kSegments)),

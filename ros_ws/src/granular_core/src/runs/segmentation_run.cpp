@@ -199,8 +199,18 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     if (saved) {
       saveFrame(saved->staging(), stem, cloud, result, frame_boxes, labels, header);
     }
-    for (const Detection& detection : detections) {
-      const OrientedBox box(detection.centre, detection.orientation, detection.size);
+    for (std::size_t d = 0; d < detections.size(); ++d) {
+      const Detection& detection = detections[d];
+      std::optional<OrientedBox> valid;
+      try {
+        valid.emplace(detection.centre, detection.orientation, detection.size);
+      } catch (const std::invalid_argument& error) {
+        evaluation.invalid_truth.push_back(json.string() + ": detections[" + std::to_string(d) +
+                                           "] (id " + std::to_string(detection.id) + "): " +
+                                           error.what());
+        continue;
+      }
+      const OrientedBox& box = *valid;
       if (!counted(box.centre(), options)) {
         continue;
       }
@@ -245,6 +255,12 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   std::snprintf(line, sizeof(line), "clouds: %zu (%.0f points each on average)\n", frames,
                 share(points, frames));
   out << line;
+  for (std::size_t i = 0; i < invalid_truth.size() && i < 10; ++i) {
+    out << "warning: true box skipped: " << invalid_truth[i] << '\n';
+  }
+  if (invalid_truth.size() > 10) {
+    out << "warning: " << invalid_truth.size() - 10 << " more true boxes skipped\n";
+  }
   if (frames_without_truth > 0) {
     std::snprintf(line, sizeof(line),
                   "warning: %zu of the %zu clouds have no detections_3d/<stamp>.json: no true "

@@ -75,6 +75,23 @@ TEST_F(EvaluateSegmentationTest, ARearFacesBoxMissesTheCarAndItsCuboidFindsIt) {
   EXPECT_EQ(fitted.false_segments, 0u);
 }
 
+TEST_F(EvaluateSegmentationTest, ATrueBoxThatIsNoBoxIsSkippedAndNamed) {
+  // Beside the car's box, one of negative size: before, the whole run failed on it, unnamed.
+  const fs::path json = frames_ / "detections_3d" / "1586102742000765440.json";
+  write(json, frameJson(detectionJson(7, "Car", R"({"x": 12.0, "y": 0.0, "z": -0.98})",
+                                      R"({"x": 4.5, "y": 1.8, "z": 1.5})") +
+                        ", " +
+                        detectionJson(8, "Car", R"({"x": 20.0, "y": 5.0, "z": -0.98})",
+                                      R"({"x": -4.5, "y": 1.8, "z": 1.5})")));
+  const SegmentationEvaluation evaluation =
+      evaluateSegmentation(frames_, GroundConfig(), SegmentationStageConfig());
+  EXPECT_EQ(evaluation.visible, 1u);
+  ASSERT_EQ(evaluation.invalid_truth.size(), 1u);
+  EXPECT_NE(evaluation.invalid_truth[0].find(json.string() + ": detections[1] (id 8)"),
+            std::string::npos)
+      << evaluation.invalid_truth[0];
+}
+
 TEST_F(EvaluateSegmentationTest, CloudsWithoutTruthAreCountedAndTheReportWarns) {
   for (const fs::directory_entry& entry : fs::directory_iterator(frames_ / "detections_3d")) {
     fs::remove(entry.path());

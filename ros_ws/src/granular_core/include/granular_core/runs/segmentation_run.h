@@ -47,6 +47,8 @@ struct SegmentationEvaluationOptions {
 struct SegmentationEvaluation {
   std::size_t frames = 0;
   std::size_t frames_without_truth = 0;  ///< clouds with no detections_3d/<stamp>.json
+  /// True boxes that are no box (negative size, zero quaternion...), skipped: file and why.
+  std::vector<std::string> invalid_truth;
   std::size_t points = 0;          ///< over all clouds
   std::size_t visible = 0;         ///< true objects counted (min_points, view, range)
   std::size_t found = 0;           ///< of those, with a segment centre within max_distance

@@ -308,6 +308,16 @@ def test_predictions_go_to_evaluated_truths_before_dont_care_ones(tmp_path):
     assert summary["per_frame"][STAMP]["ignored_truths"] == {"2": "label"}
 
 
+def test_labels_no_true_box_carries_are_an_error_naming_those_seen(tmp_path, capsys):
+    # Before: 0 truths evaluated, exit 0, as if the cuboids had been scored.
+    truth = {STAMP: [box_json(1, "Car", 10.0, 0.0)]}
+    status, _ = evaluate(tmp_path, truth, truth, "--labels", "Zeppelin")
+    assert status == 1
+    assert "no true box carries any of the labels asked for (Zeppelin); labels seen: Car" in \
+        capsys.readouterr().err
+    assert not (tmp_path / "report").exists()
+
+
 def test_min_points_counts_the_clouds_points_in_each_true_box(tmp_path):
     frames = tmp_path / "frames"
     write_frames(frames / "detections_3d", {STAMP: [box_json(1, "Car", 10.0, 0.0),

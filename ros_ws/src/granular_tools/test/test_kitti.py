@@ -384,7 +384,8 @@ def test_stamps_past_ros_times_range_are_refused_before_writing(kitti_fixture, t
 
 
 def test_bad_options_are_exit_2(kitti_fixture, tmp_path):
-    for extra in (["--frames", "a-b"], ["--start-time", "-1"], ["--frame-id", ""]):
+    for extra in (["--frames", "a-b"], ["--start-time", "-1"], ["--frame-id", ""],
+                  ["--out", ""]):
         with pytest.raises(SystemExit) as exited:
             kitti.main([str(kitti_fixture), "--out", str(tmp_path / "x.bag"), *extra])
         assert exited.value.code == 2

@@ -100,6 +100,8 @@ def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
     cases = [(["--boxes", "given"], "boxes must be segment or detections"),
              (["--method", "model"], "the model method needs models"),
              (["--sensor-height", "-1"], "sensor_height must be a positive number"),
+             (["--max-range", "inf"], "max_range must be a positive number"),
+             (["--azimuth-step", "inf"], "azimuth_step must be a positive number"),
              (["--boxes", "detections", "--classifier", drive / "knn.yml"],
               "it needs boxes:=segment")]
     # A misspelt key in a config of --config-dir: a bad configuration, as for every tool.

@@ -508,6 +508,8 @@ def parse_args(argv):
         parser.error(f"--start-time must be between 0 and 2^32 s, got {args.start_time}")
     if not args.frame_id.strip():
         parser.error("--frame-id must not be empty")
+    if not args.out.strip():
+        parser.error("--out must name the bag to write")
     return args
 
 

@@ -2,6 +2,7 @@
 the user meant them, each tool run as a stage whose failure stops the run with the tool's exit
 status, a FAILED marker in the output folder, and signals passed on to the running tool."""
 import contextlib
+import math
 import os
 import signal
 import subprocess
@@ -68,7 +69,7 @@ def existing_file(path, what):
 
 
 def positive_number(text, name, kind=float):
-    """A positive `kind` from an option's `text`; None for an empty text; a StageError (exit 2)
+    """A positive, finite `kind` from an option's `text`; None for an empty text; a StageError (exit 2)
     naming the option otherwise."""
     if text in (None, ""):
         return None
@@ -76,7 +77,8 @@ def positive_number(text, name, kind=float):
         value = kind(text)
     except ValueError:
         value = 0
-    if not value > 0:
+    # Infinite is no number to pass on: the tools it goes to refuse it after earlier stages ran.
+    if not (value > 0 and math.isfinite(value)):
         raise StageError("arguments", f"{name} must be a positive number, got '{text}'", 2)
     return value
 

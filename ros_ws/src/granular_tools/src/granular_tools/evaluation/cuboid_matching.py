@@ -428,9 +428,11 @@ def evaluate(settings, reporter=None):
     labels = collections.defaultdict(lambda: {"truths": 0, "matched": 0,
                                               "tp": collections.Counter(),
                                               "tp_class": collections.Counter()})
+    labels_seen = set()
     for k, (stamp, truth_path) in enumerate(truth_files.items()):
         truths, dropped = load_detections(truth_path)
         skipped["truth"].update(dropped)
+        labels_seen.update(truth.label for truth in truths)
         predictions = []
         if stamp in predicted_files:
             predictions, dropped = load_detections(predicted_files[stamp])
@@ -456,6 +458,12 @@ def evaluate(settings, reporter=None):
                 entry["tp_class"][name] += ok and same_class
         if reporter:
             reporter(k + 1, len(truth_files))
+    # A label asked for that no true box carries is a typo more often than not; none matched
+    # would look like an evaluation of nothing.
+    if settings.filters.labels and not labels_seen & set(settings.filters.labels):
+        raise CuboidError(f"{truth_folder}: no true box carries any of the labels asked for "
+                          f"({', '.join(settings.filters.labels)}); labels seen: "
+                          f"{', '.join(sorted(labels_seen)) or 'none'}")
 
     per_label = {label: {"truths": e["truths"], "matched": e["matched"],
                          "recall": {n: e["tp"][n] / e["truths"] for n in CRITERIA},

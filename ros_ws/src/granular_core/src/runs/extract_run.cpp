@@ -89,7 +89,9 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
 // The segments of a frame as detections, labelled by the true boxes `detections`
 // (labelSegments): the background ones under the background label, and, with
 // `segment_objects`, the ones on a true box under its label, in place of the true boxes.
-// Numbered by their place among the frame's segments. A true box that cannot be judged on
+// A segment on a true box keeps that box's id (the instance it shows, as index.csv's
+// detection_id); a background one is numbered by its place among the frame's segments. A true
+// box that cannot be judged on
 // (invalid, or beyond `max_box_size`, as extractObjects rejects it) may hold any segment, so
 // the frame then gives no Background objects. Returns what was wrong with such boxes when
 // `segment_objects` hides them from extractObjects.
@@ -128,7 +130,8 @@ std::vector<std::string> harvestSegments(const Cloud& cloud, const std::vector<S
     }
     const Segment& segment = segments[labelled.segment];
     Detection detection;
-    detection.id = static_cast<std::int64_t>(labelled.segment);
+    detection.id = labelled.truth ? truth_detection[*labelled.truth]->id
+                                  : static_cast<std::int64_t>(labelled.segment);
     detection.label = labelled.truth ? truth_detection[*labelled.truth]->label : config.label;
     detection.centre = segment.box.centre();
     detection.orientation = segment.box.orientation();

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "granular_core/dataset/output_folder.h"
+#include "granular_core/dataset/objects_index.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/runs/extract_run.h"
 #include "support/detections_json.h"
@@ -225,6 +226,18 @@ TEST_F(TemporaryFolderTest, SegmentObjectsAreTheSegmentsOnTheTrueBoxes) {
   // In its segment's box the car is centred; in the loose box it sits 0.5 m back.
   EXPECT_LT(centre(true).cwiseAbs().maxCoeff(), 0.1);
   EXPECT_LT(centre(false).x(), -0.4);
+  // Either way the object is the labelled car, instance 7, for scores over instances.
+  for (const bool segment_objects : {true, false}) {
+    centre(segment_objects);
+    bool found = false;
+    for (const ObjectIndexRow& row : readObjectIndex(root_ / "objects")) {
+      if (row.label == "Sedan") {
+        EXPECT_EQ(row.detection_id, "7") << "segment_objects " << segment_objects;
+        found = true;
+      }
+    }
+    EXPECT_TRUE(found);
+  }
 }
 
 TEST_F(ExtractFolderTest, NeverReplacesAFolderOfOtherFilesEvenWithOverwrite) {

@@ -1,4 +1,5 @@
 // CuboidConfig: defaults, validation naming the field, reading over the defaults.
+#include <cmath>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -47,6 +48,8 @@ TEST(CuboidConfigTest, BadValuesNameTheField) {
   // Steps and bins that would take the fit hours or all memory.
   expectProblem([](CuboidConfig& c) { c.lshape.fine_step_deg = 1e-9; }, "lshape.fine_step_deg");
   expectProblem([](CuboidConfig& c) { c.free_space.bin_deg = 1e-9; }, "free_space.bin_deg");
+  // Not "got null", JSON's word for it.
+  expectProblem([](CuboidConfig& c) { c.lshape.cell = std::nan(""); }, "got nan");
   expectProblem([](CuboidConfig& c) { c.geometric.classes = {"Tram"}; }, "'Tram'");
   expectProblem([](CuboidConfig& c) { c.geometric.classes = {""}; }, "geometric.classes[0]");
   expectProblem([](CuboidConfig& c) { c.points.min_height = 5.0; }, "points.min_height");

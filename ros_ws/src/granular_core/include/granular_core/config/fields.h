@@ -215,6 +215,9 @@ inline std::string join(const std::string& path, const std::string& key) {
 }
 
 inline std::string number(double value) {
+  if (!std::isfinite(value)) {  // JSON would write null
+    return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+  }
   Json json = value;
   return json.dump();
 }

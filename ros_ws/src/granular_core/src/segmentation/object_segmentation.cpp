@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -787,9 +788,19 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
 }
 
 void validate(const SegmentationStageConfig& config) {
-  validate(config.objects);
-  validate(config.occupancy);
-  validate(config.background);
+  // Every field, named with its section ("objects.cell_size"); then each section's rules that
+  // tie fields together, under the section's name.
+  config::validateFields(config);
+  const auto within = [](const char* section, const std::function<void()>& check) {
+    try {
+      check();
+    } catch (const std::invalid_argument& error) {
+      throw std::invalid_argument(std::string(section) + ": " + error.what());
+    }
+  };
+  within("objects", [&] { validate(config.objects); });
+  within("occupancy", [&] { validate(config.occupancy); });
+  within("background", [&] { validate(config.background); });
 }
 
 FrameSegmenter::FrameSegmenter(const GroundConfig& ground, const SegmentationStageConfig& config)

@@ -1,6 +1,7 @@
 // Segmentation of scans without boxes: ground first, range-aware grid, gates, boxes.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <set>
 #include <vector>
@@ -364,6 +365,27 @@ TEST(ObjectSegmentationTest, ValidateNamesTheField) {
   fine = ObjectSegmentationConfig();
   fine.gates.side_bin = 1e-9;
   EXPECT_THROW(validate(fine), std::invalid_argument);
+}
+
+TEST(ObjectSegmentationTest, TheStagesValidationNamesTheSection) {
+  // Both methods have a cell_size: a message must say whose.
+  const auto message = [](const std::function<void(SegmentationStageConfig&)>& change) {
+    SegmentationStageConfig config;
+    change(config);
+    try {
+      validate(config);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message([](SegmentationStageConfig&) {}), "accepted");
+  EXPECT_NE(message([](SegmentationStageConfig& c) { c.objects.cell_size = 0.0; })
+                .find("objects.cell_size"),
+            std::string::npos);
+  EXPECT_NE(message([](SegmentationStageConfig& c) { c.occupancy.cell_size = 0.001; })
+                .find("occupancy: extent / cell_size"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/parallel.h"
 #include "granular_core/registration/criteria.h"
 
 namespace granular {
@@ -157,13 +158,11 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     // frame's threads, as registration is.
     const SupervisedClassifier& classifier = *impl_->supervised;
     std::vector<std::vector<float>> features(classified.size());
-    const auto count = static_cast<std::ptrdiff_t>(classified.size());
-#pragma omp parallel for num_threads(impl_->threads) schedule(dynamic, 4)
-    for (std::ptrdiff_t k = 0; k < count; ++k) {
-      const std::size_t i = classified[static_cast<std::size_t>(k)];
-      features[static_cast<std::size_t>(k)] = classifier.fitnessFeatures(
+    parallelFor(classified.size(), impl_->threads, 4, [&](std::size_t k) {
+      const std::size_t i = classified[k];
+      features[k] = classifier.fitnessFeatures(
           registrationFitnessFeatures(fitness[i], clouds[i].size()), objects[i]);
-    }
+    });
     const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
     for (std::size_t k = 0; k < classified.size(); ++k) {
       predictions[classified[k]] = {true, answers[k].label, answers[k].score};
@@ -180,12 +179,9 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     }
     // Each object's features on its own: spread over the frame's threads, as registration is.
     std::vector<std::vector<float>> features(classified.size());
-    const auto count = static_cast<std::ptrdiff_t>(classified.size());
-#pragma omp parallel for num_threads(impl_->threads) schedule(dynamic, 4)
-    for (std::ptrdiff_t k = 0; k < count; ++k) {
-      features[static_cast<std::size_t>(k)] =
-          classifier.features(objects[classified[static_cast<std::size_t>(k)]]);
-    }
+    parallelFor(classified.size(), impl_->threads, 4, [&](std::size_t k) {
+      features[k] = classifier.features(objects[classified[k]]);
+    });
     const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
     for (std::size_t k = 0; k < classified.size(); ++k) {
       predictions[classified[k]] = {true, answers[k].label, answers[k].score};

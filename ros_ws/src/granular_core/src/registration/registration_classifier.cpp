@@ -12,6 +12,8 @@
 #include <omp.h>
 #endif
 
+#include "granular_core/parallel.h"
+
 namespace granular {
 namespace {
 
@@ -22,25 +24,6 @@ namespace {
 // 12,471 (the model's box bounds as well there).
 constexpr float kFitnessBoundCell = 0.2f;
 constexpr float kFitnessBoundMargin = 0.5f;
-
-// Runs work(m) for every model m < count on every core; the first exception is rethrown once
-// all are done.
-template <typename Work>
-void forEachModel(std::size_t count, Work work) {
-  std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long m = 0; m < static_cast<long>(count); ++m) {
-    try {
-      work(static_cast<std::size_t>(m));
-    } catch (...) {
-#pragma omp critical(granular_model_error)
-      error = error ? error : std::current_exception();
-    }
-  }
-  if (error) {
-    std::rethrow_exception(error);
-  }
-}
 
 // The two lowest of the values offered.
 struct LowestTwo {
@@ -159,7 +142,7 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   }
   impl_->models.clouds.resize(models.size());
   impl_->models.trees.resize(models.size());
-  forEachModel(models.size(), [&](std::size_t m) {
+  parallelFor(models.size(), 0, 1, [&](std::size_t m) {
     const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
     NearestTree::Ptr tree(new NearestTree);
     if (std::isfinite(bound)) {
@@ -214,7 +197,7 @@ int registrationThreads(const RegisterOptions& options) {
 void RegistrationClassifier::prepareEarlyRejection() const {
   // An exception leaves the flag unset: the next call tries again.
   std::call_once(impl_->fitness_bounds, [this] {
-    forEachModel(impl_->models.trees.size(), [this](std::size_t m) {
+    parallelFor(impl_->models.trees.size(), 0, 1, [this](std::size_t m) {
       impl_->models.trees[m]->buildFitnessBound(kFitnessBoundCell, kFitnessBoundMargin);
     });
   });
@@ -228,61 +211,42 @@ std::vector<std::vector<PairResult>> RegistrationClassifier::registerObjects(
   const Impl& impl = *impl_;
   const std::size_t models = impl.labels.size();
   std::vector<std::vector<PairResult>> results(objects.size());
-  const long count = static_cast<long>(objects.size());
-  std::size_t done = 0;
-  std::exception_ptr error;
-#pragma omp parallel num_threads(registrationThreads(options))
-  {
-    // Each thread's own registration objects; building them costs no tree or cell.
+  // Each thread's own registration objects (building them costs no tree or cell) and scratch.
+  struct ThreadState {
     std::unique_ptr<ModelAligner> aligner;
     FitnessScratch scratch;
     std::vector<bool> registered;
-    try {
-      aligner = impl.registration->aligner();
-    } catch (...) {
-#pragma omp critical(granular_registration_error)
-      error = error ? error : std::current_exception();
-    }
-    // Objects differ a hundredfold in size: small dynamic chunks keep the threads even.
-#pragma omp for schedule(dynamic, 4)
-    for (long i = 0; i < count; ++i) {
-      if (!aligner) {
-        continue;
-      }
-      const ModelCloud::ConstPtr source =
-          registrationSource(objects[static_cast<std::size_t>(i)], impl.config.source_min_z);
-      std::vector<PairResult>& result = results[static_cast<std::size_t>(i)];
-      result.assign(models, PairResult());
-      if (source->size() >= minimumSourcePoints(impl.method)) {
-        registered.assign(models, false);
+  };
+  const int threads = registrationThreads(options);
+  std::vector<ThreadState> states(static_cast<std::size_t>(threads));
+  // Objects differ a hundredfold in size: small dynamic chunks keep the threads even.
+  parallelFor(
+      objects.size(), threads, 4,
+      [&](std::size_t i) {
+        ThreadState& state = states[static_cast<std::size_t>(threadIndex())];
+        if (!state.aligner) {
+          state.aligner = impl.registration->aligner();
+        }
+        const ModelCloud::ConstPtr source =
+            registrationSource(objects[i], impl.config.source_min_z);
+        std::vector<PairResult>& result = results[i];
+        result.assign(models, PairResult());
+        if (source->size() < minimumSourcePoints(impl.method)) {
+          return;
+        }
+        state.registered.assign(models, false);
         for (std::size_t m = 0; m < models; ++m) {
           try {
-            result[m] = aligner->align(source, m);
-            registered[m] = true;
+            result[m] = state.aligner->align(source, m);
+            state.registered[m] = true;
           } catch (const std::exception&) {
             result[m] = failedPair();
           }
         }
-        try {
-          scoreFitness(*source, impl.models.trees, registered, options.early_rejection, result,
-                       scratch);
-        } catch (...) {
-#pragma omp critical(granular_registration_error)
-          error = error ? error : std::current_exception();
-        }
-      }
-#pragma omp critical(granular_registration_progress)
-      {
-        ++done;
-        if (options.progress) {
-          options.progress(done, objects.size());
-        }
-      }
-    }
-  }
-  if (error) {
-    std::rethrow_exception(error);
-  }
+        scoreFitness(*source, impl.models.trees, state.registered, options.early_rejection,
+                     result, state.scratch);
+      },
+      options.progress);
   return results;
 }
 

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <map>
 #include <set>
 #include <sstream>
@@ -16,6 +15,7 @@
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/dataset/object_names.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/parallel.h"
 #include "granular_core/text.h"
 
 namespace granular {
@@ -141,20 +141,8 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
   // Read on the registration's threads: thousands of small files, each parsed on its own.
   // A file that cannot be read stops the run, the first such in the folder's order named.
   std::vector<ModelCloud> clouds(files.size());
-  std::vector<std::exception_ptr> read_errors(files.size());
-#pragma omp parallel for schedule(dynamic, 16) num_threads(registrationThreads(options.registration))
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    try {
-      clouds[i] = readModelPcd(files[i]);
-    } catch (...) {
-      read_errors[i] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& error : read_errors) {
-    if (error) {
-      std::rethrow_exception(error);
-    }
-  }
+  parallelFor(files.size(), registrationThreads(options.registration), 16,
+              [&](std::size_t i) { clouds[i] = readModelPcd(files[i]); });
   run.objects.resize(files.size());
   std::size_t points = 0;
   std::size_t below = 0;

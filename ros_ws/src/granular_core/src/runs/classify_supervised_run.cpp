@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
-#include <exception>
 #include <fstream>
 #include <map>
 #include <numeric>
@@ -12,21 +11,21 @@
 #include <set>
 #include <stdexcept>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <nlohmann/json.hpp>
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/dataset/object_names.h"
+#include "granular_core/parallel.h"
 
 namespace granular {
 namespace fs = std::filesystem;
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Objects handed to a thread at a time: each costs a file read and its features.
+constexpr int kObjectsPerChunk = 8;
 
 double microsecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::micro>(Clock::now() - start).count();
@@ -37,36 +36,6 @@ std::size_t finitePoints(const Cloud& cloud) {
       cloud.points.begin(), cloud.points.end(), [](const PointXYZIT& p) {
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
       }));
-}
-
-// Runs work(i) for every object on `threads` threads; the first exception is rethrown.
-template <typename Work>
-void forEachObject(std::size_t count, int threads, Work work,
-                   const std::function<void(std::size_t, std::size_t)>& progress) {
-  std::size_t done = 0;
-  std::exception_ptr error;
-#ifdef _OPENMP
-  const int team = threads > 0 ? threads : omp_get_max_threads();
-#endif
-#pragma omp parallel for schedule(dynamic, 8) num_threads(team)
-  for (long i = 0; i < static_cast<long>(count); ++i) {
-    try {
-      work(static_cast<std::size_t>(i));
-    } catch (...) {
-#pragma omp critical(granular_supervised_error)
-      error = error ? error : std::current_exception();
-    }
-#pragma omp critical(granular_supervised_progress)
-    {
-      ++done;
-      if (progress) {
-        progress(done, count);
-      }
-    }
-  }
-  if (error) {
-    std::rethrow_exception(error);
-  }
 }
 
 void addWarnings(SupervisedRun& run, const SupervisedClassifier& classifier) {
@@ -189,8 +158,8 @@ FolderFeatures computeFolderFeatures(const fs::path& folder, FeatureKind kind,
   result.points.resize(files.size());
   result.features.resize(files.size());
   result.microseconds.resize(files.size());
-  forEachObject(
-      files.size(), threads,
+  parallelFor(
+      files.size(), threads, kObjectsPerChunk,
       [&](std::size_t i) {
         const Cloud object = readPcd(files[i]);
         const auto start = Clock::now();
@@ -216,8 +185,8 @@ SupervisedRun classifyFolderSupervised(const SupervisedClassifier& classifier,
   run.points.resize(files.size());
   run.predicted.resize(files.size());
   std::vector<double> microseconds(files.size());
-  forEachObject(
-      files.size(), threads,
+  parallelFor(
+      files.size(), threads, kObjectsPerChunk,
       [&](std::size_t i) {
         const Cloud object = readPcd(files[i]);
         const auto begin = Clock::now();
@@ -296,16 +265,15 @@ void appendPointHistograms(FolderFeatures& folder, const fs::path& objects,
         "objects the registration results are of: give their folder (--objects)");
   }
   requireObjectsFolder(objects);
-  forEachObject(
-      folder.files.size(), threads,
+  parallelFor(
+      folder.files.size(), threads, kObjectsPerChunk,
       [&](std::size_t i) {
         const Cloud object = readPcd(objects / folder.files[i]);
         const auto start = Clock::now();
         const std::vector<float> histogram = pointHistogramFeatures(object, config);
         folder.features[i].insert(folder.features[i].end(), histogram.begin(), histogram.end());
         folder.microseconds[i] += microsecondsSince(start);
-      },
-      {});
+      });
 }
 
 }  // namespace

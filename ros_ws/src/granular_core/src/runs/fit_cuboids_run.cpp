@@ -3,19 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <optional>
 #include <stdexcept>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/cuboids/segment_views.h"
 #include "granular_core/extraction/extract_objects.h"
+#include "granular_core/parallel.h"
 #include "background_decision.h"
 #include "run_helpers.h"
 
@@ -168,28 +164,13 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     // The objects over the threads, each timed alone.
     std::vector<std::optional<FittedCuboid>> fitted(inputs.size());
     std::vector<double> milliseconds(inputs.size(), 0.0);
-    std::exception_ptr error;
-    const long count = static_cast<long>(inputs.size());
-    [[maybe_unused]] int threads = 1;
-#ifdef _OPENMP
-    threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-#endif
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (long i = 0; i < count; ++i) {
+    parallelFor(inputs.size(), options.threads, 1, [&](std::size_t i) {
       const auto begin = std::chrono::steady_clock::now();
-      try {
-        fitted[static_cast<std::size_t>(i)] = fitter->fit(inputs[static_cast<std::size_t>(i)].view);
-      } catch (...) {
-#pragma omp critical(granular_fit_cuboids_error)
-        error = error ? error : std::current_exception();
-      }
-      milliseconds[static_cast<std::size_t>(i)] =
+      fitted[i] = fitter->fit(inputs[i].view);
+      milliseconds[i] =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
               .count();
-    }
-    if (error) {
-      std::rethrow_exception(error);
-    }
+    });
 
     std::vector<Detection> cuboids;
     for (std::size_t i = 0; i < inputs.size(); ++i) {

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -18,6 +17,7 @@
 #include <opencv2/ml.hpp>
 
 #include "granular_core/dataset/atomic_file.h"
+#include "granular_core/parallel.h"
 #include "granular_core/supervised/knn_predictor.h"
 #include "granular_core/supervised/rbf_svm.h"
 
@@ -441,21 +441,10 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
       // The pairs train independently: one per core, then chosen in grid order as one loop
       // would, so the choice does not depend on the thread count.
       std::vector<double> accuracies(grid.size(), 0.0);
-      std::exception_ptr error;
-#pragma omp parallel for schedule(dynamic, 1)
-      for (std::size_t i = 0; i < grid.size(); ++i) {
-        try {
-          accuracies[i] = crossValidate(search_samples, search_responses, fold, svm.folds,
-                                        grid[i].first,
-                                        std::exp2(grid[i].second));
-        } catch (...) {
-#pragma omp critical(granular_svm_grid_error)
-          error = std::current_exception();
-        }
-      }
-      if (error) {
-        std::rethrow_exception(error);
-      }
+      parallelFor(grid.size(), 0, 1, [&](std::size_t i) {
+        accuracies[i] = crossValidate(search_samples, search_responses, fold, svm.folds,
+                                      grid[i].first, std::exp2(grid[i].second));
+      });
       for (std::size_t i = 0; i < grid.size(); ++i) {
         ++training.grid_points;
         // Among equals the larger nu: the softer margin generalises better from the few

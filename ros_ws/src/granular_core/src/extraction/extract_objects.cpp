@@ -174,6 +174,21 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   return object;
 }
 
+std::string detectionName(const Detection& detection, std::size_t index) {
+  return "detections[" + std::to_string(index) + "] (id " + std::to_string(detection.id) + ", " +
+         detection.label + ")";
+}
+
+std::optional<OrientedBox> detectionBox(const Detection& detection, std::size_t index,
+                                        std::string& problem) {
+  try {
+    return OrientedBox(detection.centre, detection.orientation, detection.size);
+  } catch (const std::invalid_argument& error) {
+    problem = detectionName(detection, index) + ": " + error.what();
+    return std::nullopt;
+  }
+}
+
 FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>& detections,
                                const ExtractionConfig& config) {
   FrameExtraction result;
@@ -195,23 +210,19 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
                                             detection.label) == config.labels.end()) {
       continue;
     }
-    const auto reject = [&](const std::string& why) {
-      result.errors.push_back("detections[" + std::to_string(i) + "] (id " +
-                              std::to_string(detection.id) + ", " + detection.label +
-                              "): " + why);
-    };
-    std::optional<OrientedBox> box;
-    try {
-      box.emplace(detection.centre, detection.orientation, detection.size);
-    } catch (const std::invalid_argument& error) {
-      reject(error.what());
+    std::string problem;
+    const std::optional<OrientedBox> box = detectionBox(detection, i, problem);
+    if (!box) {
+      result.errors.push_back(problem);
       continue;
     }
     if (box->size().maxCoeff() > config.max_box_size) {
       std::ostringstream size;
       size << box->size().x() << " x " << box->size().y() << " x " << box->size().z();
-      reject("box of " + size.str() + " m is larger than max_box_size (" +
-             std::to_string(config.max_box_size) + " m); skipped as implausible");
+      result.errors.push_back(detectionName(detection, i) + ": box of " + size.str() +
+                              " m is larger than max_box_size (" +
+                              std::to_string(config.max_box_size) +
+                              " m); skipped as implausible");
       continue;
     }
     Cloud object = cropper ? cropper->crop(*box, config.padding)

@@ -104,21 +104,17 @@ std::vector<std::string> harvestSegments(const Cloud& cloud, const std::vector<S
   for (std::size_t i = 0; i < detections.size(); ++i) {
     const Detection& detection = detections[i];
     std::string problem;
-    try {
-      const OrientedBox box(detection.centre, detection.orientation, detection.size);
-      if (box.size().maxCoeff() <= max_box_size) {
-        truth.push_back(box);
+    if (const std::optional<OrientedBox> box = detectionBox(detection, i, problem)) {
+      if (box->size().maxCoeff() <= max_box_size) {
+        truth.push_back(*box);
         truth_detection.push_back(&detection);
         continue;
       }
-      problem = "box larger than max_box_size (" + std::to_string(max_box_size) + " m)";
-    } catch (const std::invalid_argument& error) {
-      problem = error.what();
+      problem = detectionName(detection, i) + ": box larger than max_box_size (" +
+                std::to_string(max_box_size) + " m)";
     }
     if (segment_objects) {
-      problems.push_back("detections[" + std::to_string(i) + "] (id " +
-                         std::to_string(detection.id) + ", " + detection.label + "): " + problem +
-                         "; skipped, and the frame gives no " + config.label +
+      problems.push_back(problem + "; skipped, and the frame gives no " + config.label +
                          " objects (any segment may lie on the box)");
     }
   }

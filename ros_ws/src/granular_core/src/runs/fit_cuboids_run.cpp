@@ -138,13 +138,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
       for (std::size_t d = 0; d < detections.size(); ++d) {
         const Detection& detection = detections[d];
-        std::optional<OrientedBox> box;
-        try {
-          box.emplace(detection.centre, detection.orientation, detection.size);
-        } catch (const std::invalid_argument& error) {
-          summary.invalid_detections.push_back(json.string() + ": detections[" +
-                                               std::to_string(d) + "] (id " +
-                                               std::to_string(detection.id) + "): " + error.what());
+        std::string problem;
+        const std::optional<OrientedBox> box = detectionBox(detection, d, problem);
+        if (!box) {
+          summary.invalid_detections.push_back(json.string() + ": " + problem);
           continue;
         }
         const Eigen::Isometry3d to_sensor = box->sensorToObject().inverse();

@@ -200,14 +200,10 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
       saveFrame(saved->staging(), stem, cloud, result, frame_boxes, labels, header);
     }
     for (std::size_t d = 0; d < detections.size(); ++d) {
-      const Detection& detection = detections[d];
-      std::optional<OrientedBox> valid;
-      try {
-        valid.emplace(detection.centre, detection.orientation, detection.size);
-      } catch (const std::invalid_argument& error) {
-        evaluation.invalid_truth.push_back(json.string() + ": detections[" + std::to_string(d) +
-                                           "] (id " + std::to_string(detection.id) + "): " +
-                                           error.what());
+      std::string problem;
+      const std::optional<OrientedBox> valid = detectionBox(detections[d], d, problem);
+      if (!valid) {
+        evaluation.invalid_truth.push_back(json.string() + ": " + problem);
         continue;
       }
       const OrientedBox& box = *valid;

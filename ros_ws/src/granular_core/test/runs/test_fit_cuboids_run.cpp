@@ -110,7 +110,8 @@ TEST_F(FitCuboidsFolderTest, GivenBoxesAreGrownAndRefittedWithoutTheirHeading) {
   ASSERT_EQ(summary.frames_skipped.size(), 1u);
   EXPECT_EQ(summary.frames_skipped[0], bare_stamp_ + ": no detections_3d/" + bare_stamp_ + ".json");
   ASSERT_EQ(summary.invalid_detections.size(), 1u);
-  EXPECT_NE(summary.invalid_detections[0].find("detections[1] (id 137)"), std::string::npos)
+  EXPECT_NE(summary.invalid_detections[0].find("detections[1] (id 137, Sedan): "),
+            std::string::npos)
       << summary.invalid_detections[0];
   EXPECT_EQ(summary.objects, 2u);  // the car and the box of nothing
   EXPECT_EQ(summary.fitted, 1u);

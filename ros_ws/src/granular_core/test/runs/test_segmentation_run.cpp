@@ -87,7 +87,7 @@ TEST_F(EvaluateSegmentationTest, ATrueBoxThatIsNoBoxIsSkippedAndNamed) {
       evaluateSegmentation(frames_, GroundConfig(), SegmentationStageConfig());
   EXPECT_EQ(evaluation.visible, 1u);
   ASSERT_EQ(evaluation.invalid_truth.size(), 1u);
-  EXPECT_NE(evaluation.invalid_truth[0].find(json.string() + ": detections[1] (id 8)"),
+  EXPECT_NE(evaluation.invalid_truth[0].find(json.string() + ": detections[1] (id 8, Car): "),
             std::string::npos)
       << evaluation.invalid_truth[0];
 }

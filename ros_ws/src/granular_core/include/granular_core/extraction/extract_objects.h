@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,15 @@
 #include "granular_core/point_types.h"
 
 namespace granular {
+
+/// "detections[<index>] (id <id>, <label>)": how every message names a detection of a frame.
+std::string detectionName(const Detection& detection, std::size_t index);
+
+/// The box of `detection`, the frame's `index`-th; nullopt when its numbers make none (a size
+/// not positive, a number not finite, no rotation: OrientedBox's checks), and `problem` then
+/// says so, the detection named ("detections[2] (id 7, Car): size must be positive ...").
+std::optional<OrientedBox> detectionBox(const Detection& detection, std::size_t index,
+                                        std::string& problem);
 
 /// The points of one detection, moved into its object frame.
 struct ExtractedObject {

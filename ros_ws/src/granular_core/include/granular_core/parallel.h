@@ -13,16 +13,24 @@
 namespace granular {
 
 /// Calls work(i) for every i < count on `threads` threads (0: OpenMP's default), handing out
-/// `chunk` indices at a time (dynamic schedule). An exception thrown by work never escapes a
-/// thread (which would end the process): once every index has run, the exception of the lowest
-/// index that threw is rethrown, so a failing run names the same item whatever the thread
-/// count. `progress(done, count)`, when set, is called after each index, one call at a time.
+/// `chunk` indices at a time (dynamic schedule). `progress(done, count)`, when set, is called
+/// after each index, one call at a time. An exception thrown by work or progress never escapes
+/// a thread (which would end the process): once every index has run, the exception of the
+/// lowest index that threw is rethrown, so a failing run names the same item whatever the
+/// thread count.
 template <typename Work>
 void parallelFor(std::size_t count, [[maybe_unused]] int threads, int chunk, Work&& work,
                  const std::function<void(std::size_t, std::size_t)>& progress = {}) {
   std::exception_ptr error;
   std::size_t error_at = count;
   std::size_t done = 0;
+  const auto keep = [&](std::size_t index, std::exception_ptr thrown) {
+#pragma omp critical(granular_parallel_for_error)
+    if (index < error_at) {
+      error_at = index;
+      error = thrown;
+    }
+  };
   [[maybe_unused]] int team = 1;
 #ifdef _OPENMP
   team = threads > 0 ? threads : omp_get_max_threads();
@@ -33,15 +41,15 @@ void parallelFor(std::size_t count, [[maybe_unused]] int threads, int chunk, Wor
     try {
       work(index);
     } catch (...) {
-#pragma omp critical(granular_parallel_for_error)
-      if (index < error_at) {
-        error_at = index;
-        error = std::current_exception();
-      }
+      keep(index, std::current_exception());
     }
     if (progress) {
 #pragma omp critical(granular_parallel_for_progress)
-      progress(++done, count);
+      try {
+        progress(++done, count);
+      } catch (...) {
+        keep(index, std::current_exception());
+      }
     }
   }
   if (error) {

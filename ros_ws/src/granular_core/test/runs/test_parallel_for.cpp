@@ -63,6 +63,21 @@ TEST(ParallelFor, ReportsProgressOncePerIndexInOrder) {
   }
 }
 
+TEST(ParallelFor, AProgressThatThrowsEndsTheLoopNotTheProcess) {
+  std::vector<std::atomic<int>> runs(100);
+  EXPECT_THROW(parallelFor(
+                   runs.size(), 4, 1, [&](std::size_t i) { ++runs[i]; },
+                   [](std::size_t done, std::size_t) {
+                     if (done == 50) {
+                       throw std::runtime_error("the terminal went away");
+                     }
+                   }),
+               std::runtime_error);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    ASSERT_EQ(runs[i], 1) << "index " << i;
+  }
+}
+
 TEST(ParallelFor, NothingToDoCallsNothing) {
   bool called = false;
   parallelFor(0, 2, 1, [&](std::size_t) { called = true; },

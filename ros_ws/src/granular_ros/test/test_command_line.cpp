@@ -62,6 +62,12 @@ TEST(OptionTableTest, HelpNeedsNoRequiredOption) {
   EXPECT_TRUE(parse({"-h", "--preset", "tuned"}).help);
 }
 
+TEST(OptionTableTest, HelpWinsOverEveryOtherMistake) {
+  EXPECT_TRUE(parse({"--outt", "x", "--help"}).help);
+  EXPECT_TRUE(parse({"--help", "--bogus"}).help);
+  EXPECT_TRUE(parse({"--objects", "-h", "--preset"}).help);
+}
+
 TEST(OptionTableTest, OneRequiredOptionIsNamedAlone) {
   std::string frames;
   std::vector<std::string> arguments = {"tool"};

@@ -66,7 +66,7 @@ class OptionTable {
 
  private:
   std::map<std::string, Handler> handlers_;
-  const bool* help_ = nullptr;
+  bool* help_ = nullptr;
   std::vector<std::pair<std::string, const std::string*>> required_;  ///< in the order given
 };
 

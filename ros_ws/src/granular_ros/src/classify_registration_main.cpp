@@ -61,7 +61,8 @@ std::string usage() {
           "\n"
           "Progress and warnings go to stderr, a summary per criterion to stdout. Exit status:\n"
           "0 done, 1 failed (unreadable or empty folders, models in another frame, output not\n"
-          "writable), 2 bad option or configuration.\n";
+          "writable), 2 bad option or configuration, 130/143/129 interrupted by\n"
+          "SIGINT/SIGTERM/SIGHUP.\n";
   return text.str();
 }
 

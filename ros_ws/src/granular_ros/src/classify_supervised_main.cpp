@@ -44,7 +44,8 @@ const char* const kUsage =
     "\n"
     "Exit status: 0 done, 1 failed (unreadable model, folder or results, results registered\n"
     "otherwise than the model's, output not writable), 2 bad option, configuration, a model of\n"
-    "other feature settings than --config, or --objects and --registration mixed up.\n";
+    "other feature settings than --config, or --objects and --registration mixed up;\n"
+    "130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n";
 
 struct Options {
   std::string model;

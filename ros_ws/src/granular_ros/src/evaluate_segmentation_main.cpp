@@ -62,7 +62,9 @@ std::string usage() {
          "  --max-range M          count objects and segments nearer than M metres only\n"
          "  --help                 print this help and exit\n"
          "\n"
-         "Exit status: 0 done, 1 unreadable input, 2 bad option or configuration.\n"
+         "Exit status: 0 done, 1 failed (unreadable input, a classifier without the Background\n"
+         "class, --save folder not writable or holding results without --overwrite), 2 bad\n"
+         "option or configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
          granular_ros::configurationHelp<granular::SegmentationStageConfig>() +

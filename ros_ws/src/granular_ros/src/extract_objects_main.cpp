@@ -75,7 +75,8 @@ std::string usage() {
          "stdout. --out is built beside itself and put in place when complete; a second run\n"
          "into it is refused meanwhile. Exit status: 0 done, 1 extraction failed (unreadable\n"
          "input, output not writable or holding results without --overwrite), 2 bad option or\n"
-         "configuration, 130/143 interrupted (nothing left half written).\n"
+         "configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (nothing left half\n"
+         "written).\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
          granular_ros::configurationHelp<granular::ExtractionConfig>();

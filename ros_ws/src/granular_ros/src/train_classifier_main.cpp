@@ -50,13 +50,15 @@ const char* const kUsage =
     "                    config/supervised.yaml documents them)\n"
     "  --search-objects N\n"
     "                    svm methods: cross-validate the grid search on a stratified sample\n"
-    "                    of N objects (0: all), then train the chosen nu and gamma on all;\n"
-    "                    overrides svm.search_objects of --config\n"
+    "                    of about N objects (0: all; each class's share rounded, and every\n"
+    "                    class keeps enough for the folds), then train the chosen nu and\n"
+    "                    gamma on all; overrides svm.search_objects of --config\n"
     "  --threads N       threads for the features (default: every core)\n"
     "  --help            print this help and exit\n"
     "\n"
     "Exit status: 0 trained, 1 failed (unreadable or empty folder or results, a single class,\n"
-    "output not writable), 2 bad option or configuration.\n";
+    "output not writable), 2 bad option or configuration, 130/143/129 interrupted by\n"
+    "SIGINT/SIGTERM/SIGHUP.\n";
 
 struct Options {
   std::string objects;

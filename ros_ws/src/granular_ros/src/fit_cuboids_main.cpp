@@ -46,7 +46,11 @@ std::string usage() {
          "                         --background); the segments it calls Background with a\n"
          "                         score of at least background.min_score (1: unanimous)\n"
          "                         get no cuboid; far sparse segments are kept (see\n"
-         "                         background.abstain_points and abstain_range)\n"
+         "                         background.abstain_points and abstain_range); the\n"
+         "                         others' cuboids take its class and score as label\n"
+         "                         (where the method gives none: geometric, rectangle),\n"
+         "                         unknown where its answer was a Background not sure\n"
+         "                         enough to drop\n"
          "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
          "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
          "                         BoxTruck,SchoolBus for the simulator\n"
@@ -62,8 +66,8 @@ std::string usage() {
          "object in the fitter (median, p95, max). --out is built beside itself and put in\n"
          "place when complete; a second run into it is refused meanwhile. Exit status: 0 done,\n"
          "1 failed (unreadable input, output not writable or holding results without\n"
-         "--overwrite), 2 bad option or configuration, 130/143 interrupted (nothing left half\n"
-         "written).\n"
+         "--overwrite), 2 bad option or configuration, 130/143/129 interrupted by\n"
+         "SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
          granular_ros::configurationHelp<granular::CuboidConfig>();
@@ -137,6 +141,10 @@ int main(int argc, char** argv) {
       run.models = granular::readClassModels(*options.models);
     } else if (options.models) {
       std::cerr << "fit_cuboids: warning: --models is not used by the "
+                << granular::config::enumName(config.method) << " method\n";
+    }
+    if (options.prior_classes && config.method != granular::CuboidMethod::kGeometric) {
+      std::cerr << "fit_cuboids: warning: --prior-classes is not used by the "
                 << granular::config::enumName(config.method) << " method\n";
     }
     // PCL prints a line for every registration that finds too few pairs.

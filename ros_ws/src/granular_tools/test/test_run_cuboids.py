@@ -16,6 +16,7 @@ SIMULATOR = ["--sensor-height", "2.3", "--azimuth-step", "1",
              "--prior-classes", "Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus"]
 # The report's truths: near enough and seen well enough for a box to be fitted at all.
 REPORT = ["--max-range", "30", "--min-points", "50"]
+VEHICLES = {"Sedan", "SUV", "Hatchback", "Jeep", "BoxTruck", "SchoolBus"}
 DETECTIONS_TOPIC = "/simulator/ground_truth/3d_detections"
 
 
@@ -94,6 +95,13 @@ def test_the_background_decision_keeps_walls_out_of_the_cuboids(drive, tmp_path)
     # Trained and tested on one drive: the decision must drop segments and keep the vehicles.
     assert scores["kept"]["fp"] < scores["all"]["fp"] / 2, scores
     assert scores["kept"]["recall"] > scores["all"]["recall"] - 0.1, scores
+    # The cuboids it keeps carry its class (or unknown, where Background was not sure enough):
+    # the class-aware figures score them.
+    labels = {detection["label"] for path in (tmp_path / "kept" / "cuboids").glob("[!.]*.json")
+              for detection in json.loads(path.read_text())["detections"]}
+    assert labels and labels <= VEHICLES | {"Pedestrian", "unknown"}, labels
+    class_aware = json.loads((tmp_path / "kept" / "report" / "summary.json").read_text())
+    assert class_aware["overall"]["class_aware"]["paper"]["f1"] > 0.3, class_aware["overall"]
 
 
 def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):

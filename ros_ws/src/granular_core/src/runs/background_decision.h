@@ -13,6 +13,7 @@ namespace runs {
 
 struct BackgroundDecision {
   std::string label;     ///< the classifier's answer
+  double score = 0.0;    ///< and its score (SupervisedPrediction::score)
   bool dropped = false;  ///< calledBackground: the segment is background
 };
 
@@ -23,8 +24,9 @@ inline BackgroundDecision decideBackground(const SupervisedClassifier& classifie
                                            const BackgroundConfig& config) {
   const Cloud object = frame.crop(box, Eigen::Vector3d::Zero());
   const SupervisedPrediction answer = classifier.predictWithScore(classifier.features(object));
-  return {answer.label, calledBackground(answer.label, answer.score, object.size(),
-                                         box.centre().head<2>().norm(), config)};
+  return {answer.label, answer.score,
+          calledBackground(answer.label, answer.score, object.size(),
+                           box.centre().head<2>().norm(), config)};
 }
 
 }  // namespace runs

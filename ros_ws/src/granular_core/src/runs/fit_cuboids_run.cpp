@@ -36,6 +36,10 @@ DetectionsHeader headerOfStamp(const std::string& stamp) {
 struct Input {
   std::int64_t id = 0;
   ObjectView view;
+  /// The Background decision's class and score for a segment it kept: the cuboid's label
+  /// where the fit gives none (kUnknownLabel), unless that class is Background itself (a
+  /// segment kept because the answer was not sure enough, or too far and sparse to judge).
+  std::optional<runs::BackgroundDecision> decision;
 };
 
 }  // namespace
@@ -119,14 +123,16 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       segmentation = segmenter.segment(cloud);
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
-        if (options.classifier != nullptr &&
-            runs::decideBackground(*options.classifier, *cropper, segmentation.segments[s].box,
-                                   options.segmentation.background)
-                .dropped) {
-          ++summary.called_background;
-          continue;
-        }
         Input input;
+        if (options.classifier != nullptr) {
+          input.decision = runs::decideBackground(*options.classifier, *cropper,
+                                                  segmentation.segments[s].box,
+                                                  options.segmentation.background);
+          if (input.decision->dropped) {
+            ++summary.called_background;
+            continue;
+          }
+        }
         input.id = static_cast<std::int64_t>(s);
         input.view = segment_views->view(s);
         inputs.push_back(std::move(input));
@@ -180,6 +186,11 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.id = inputs[i].id;
       cuboid.label = fitted[i]->label;
       cuboid.score = fitted[i]->score;
+      if (cuboid.label == kUnknownLabel && inputs[i].decision &&
+          inputs[i].decision->label != options.segmentation.background.label) {
+        cuboid.label = inputs[i].decision->label;
+        cuboid.score = inputs[i].decision->score;
+      }
       cuboid.centre = fitted[i]->box.centre();
       cuboid.orientation = fitted[i]->box.orientation();
       cuboid.size = fitted[i]->box.size();

@@ -39,7 +39,9 @@ struct FitCuboidsOptions {
   /// The segmentation (kSegments); config/segmentation.yaml.
   SegmentationStageConfig segmentation;
   /// The Background decision (kSegments): a classifier trained with Background objects; the
-  /// segments it calls segmentation.background.label get no cuboid. Null: every segment does.
+  /// segments it calls segmentation.background.label get no cuboid, the others its class and
+  /// score where the fitter gives no label (kUnknownLabel) and the class is not Background
+  /// (kept as not sure enough). Null: every segment gets a cuboid.
   const SupervisedClassifier* classifier = nullptr;
   /// The class models, for the model-based method.
   std::vector<LabelledModel> models;

@@ -124,17 +124,30 @@ def run(cuboids_run):
                 print("run_cuboids: the bag has no boxes, so no report", flush=True)
 
 
+# The simulator's sensor and vehicles: the runners' defaults, as the launch files' (cuboids,
+# pipeline and online.launch repeat them; test_run_cuboids checks that they agree).
+SIMULATOR_SENSOR = {"sensor_height": "2.3", "azimuth_step": "1.0",
+                    "prior_classes": "Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus"}
+
+
 def add_sensor_options(parser):
     """--sensor-height, --azimuth-step and --prior-classes: the sensor and the vehicles that
-    fit_cuboids needs to know."""
-    parser.add_argument("--sensor-height", default="", metavar="M",
-                        help="the sensor's height above the road (default: config/ground.yaml's; "
-                             "the simulator 2.3, KITTI 1.73)")
-    parser.add_argument("--azimuth-step", default="", metavar="DEG",
-                        help="the sensor's angle between returns along a ring (the simulator 1, "
-                             "KITTI 0.176)")
-    parser.add_argument("--prior-classes", default="", metavar="LIST",
-                        help="the size priors the geometric fit chooses among, comma-separated")
+    fit_cuboids needs to know; the simulator's by default, as in the launch files. An empty
+    value leaves fit_cuboids' own default (config/ground.yaml's height, KITTI's step and
+    config/cuboids.yaml's priors)."""
+    parser.add_argument("--sensor-height", default=SIMULATOR_SENSOR["sensor_height"],
+                        metavar="M",
+                        help="the sensor's height above the road (default %(default)s, the "
+                             "simulator's; KITTI 1.73)")
+    parser.add_argument("--azimuth-step", default=SIMULATOR_SENSOR["azimuth_step"],
+                        metavar="DEG",
+                        help="the sensor's angle between returns along a ring (default "
+                             "%(default)s, the simulator's; KITTI 0.176)")
+    parser.add_argument("--prior-classes", default=SIMULATOR_SENSOR["prior_classes"],
+                        metavar="LIST",
+                        help="the size priors the geometric fit chooses among, comma-separated "
+                             "(default %(default)s, the simulator's vehicles; KITTI "
+                             "Car,Van,Truck)")
 
 
 def main(argv=None):

@@ -67,7 +67,7 @@ class PipelineRun(ConfigFolder):
         if self.boxes == "segment" and "models" in self.stages:
             raise bad_argument("boxes:=segment gives objects labelled unknown, of which no class "
                                "models can be built: run the stages frames,objects "
-                               "(stages:=frames,objects), then classify the objects with a "
+                               "(--stages frames,objects), then classify the objects with a "
                                "classifier trained on labelled drives")
         if self.model_method not in ("plain", "icp"):
             raise bad_argument(f"model_method must be plain or icp, got '{self.model_method}'")

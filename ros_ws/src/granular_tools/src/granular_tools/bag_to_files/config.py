@@ -1,20 +1,27 @@
 """bag-to-files parameters, shared by the offline reader and the live node."""
 import dataclasses
+import math
+
+from ..config_loading import ConfigError, bounded
 
 
 @dataclasses.dataclass(frozen=True)
 class BagToFilesConfig:
     cloud_topic: str = "/simulator/lidar"
     detections_topic: str = "/simulator/ground_truth/3d_detections"
-    slop: float = 0.01       # s, the most a cloud and a detection stamp may differ (report: 10 ms)
-    queue_size: int = 10     # messages per topic the synchroniser keeps while waiting for a match
+    # s, the most a cloud and a detection stamp may differ (report: 10 ms)
+    slop: float = bounded(0.01, above=0.0)
+    # messages per topic the synchroniser keeps while waiting for a match
+    queue_size: int = bounded(10, at_least=1)
     # The bag has no boxes (a real sensor's): every cloud is written, with no detections file;
     # the box-free path (segmentation, cuboid fitting) makes the boxes.
     clouds_only: bool = False
 
     def check(self):
-        if self.slop <= 0.0:
-            raise ValueError(f"slop must be positive, got {self.slop}")
+        """The values given as options or node parameters (a file's are checked as loaded): a
+        ConfigError (exit 2) naming the one out of range."""
+        if not (self.slop > 0.0 and math.isfinite(self.slop)):
+            raise ConfigError(f"slop must be a positive number of seconds, got {self.slop}")
         if self.queue_size < 1:
-            raise ValueError(f"queue_size must be at least 1, got {self.queue_size}")
+            raise ConfigError(f"queue_size must be at least 1, got {self.queue_size}")
         return self

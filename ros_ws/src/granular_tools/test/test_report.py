@@ -77,6 +77,18 @@ def test_missing_or_malformed_results_are_errors_and_nothing_is_written(tmp_path
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results"]
 
 
+def test_a_report_is_replaced_only_with_overwrite(tmp_path, capsys):
+    write_results(tmp_path / "results", "icp", 10, SEDAN_HATCHBACK)
+    arguments = ["--results", str(tmp_path / "results"), "--out", str(tmp_path / "report")]
+    assert report.main(arguments) == 0
+    (tmp_path / "report" / "index.md").write_text("annotated by hand")
+    assert report.main(arguments) == 1
+    assert "--overwrite" in capsys.readouterr().err
+    assert (tmp_path / "report" / "index.md").read_text() == "annotated by hand"
+    assert report.main(arguments + ["--overwrite"]) == 0
+    assert "| icp | 10 | 6 | 0.500 |" in (tmp_path / "report" / "index.md").read_text()
+
+
 def test_a_folder_that_is_not_a_report_is_not_replaced(tmp_path, capsys):
     write_results(tmp_path / "results", "icp", 10, SEDAN_HATCHBACK)
     (tmp_path / "precious").mkdir()

@@ -271,15 +271,17 @@ def draw_pictures(pictures):
         pool.join()
 
 
-def make_report(results_folder, out, model_pictures=None, feature_objects=None, objects=None):
-    """Write the report into `out`, built in a sibling folder and renamed into place. `objects`:
-    the test objects folder (N<thresh>/index.csv), for the scores over instances."""
+def make_report(results_folder, out, model_pictures=None, feature_objects=None, objects=None,
+                overwrite=False):
+    """Write the report into `out`, built in a sibling folder and renamed into place; with
+    `overwrite`, replacing a report there. `objects`: the test objects folder
+    (N<thresh>/index.csv), for the scores over instances."""
     found = discover(results_folder)
     results = {m: {t: load_results(p) for t, p in by_t.items()} for m, by_t in found.items()}
     classes = ordered_classes({r["true_label"] for by_t in results.values()
                                for res in by_t.values() for r in res["objects"]})
-    # A report replaces the report it regenerates, never a folder of other files.
-    with OutputFolder(out, "make_report", overwrite=True,
+    # A report replaces only a report, and only when asked; never a folder of other files.
+    with OutputFolder(out, "make_report", overwrite=overwrite,
                       inputs=(results_folder, model_pictures, feature_objects, objects)) as folder:
         staging = folder.staging
         os.makedirs(os.path.join(staging, "confusion"))
@@ -323,7 +325,9 @@ def main(argv=None):
                     "OUT/summary.json, confusion matrices, precision/recall against N_thresh, "
                     "an accuracy plot and OUT/index.md.")
     parser.add_argument("--results", required=True, help="folder of <method>/N<thresh>.json")
-    parser.add_argument("--out", required=True, help="report folder (replaced if it is one)")
+    parser.add_argument("--out", required=True, help="report folder (created)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace --out when it holds a report make_report wrote")
     parser.add_argument("--model-pictures", metavar="FOLDER",
                         help="render_models output to show in index.md")
     parser.add_argument("--objects", metavar="FOLDER",
@@ -336,7 +340,7 @@ def main(argv=None):
 
     def body():
         summary = make_report(args.results, args.out, args.model_pictures, args.feature_objects,
-                              args.objects)
+                              args.objects, args.overwrite)
         for method, by_threshold in sorted(summary.items()):
             cells = ", ".join(f"{k} {v['accuracy']:.3f}" for k, v in
                               sorted(by_threshold.items(), key=lambda kv: int(kv[0][1:])))

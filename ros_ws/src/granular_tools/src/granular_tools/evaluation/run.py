@@ -165,7 +165,7 @@ def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir,
             return report.make_report(results, os.path.join(out, "report"),
                                       os.path.join(models, "pictures"),
                                       train_objects if "knn" in supervised else None,
-                                      test_run.objects_folder)
+                                      test_run.objects_folder, overwrite=True)
         except (ResultsError, CloudError, OutputError) as error:
             raise StageError("report (make_report)", str(error)) from error
 

@@ -43,8 +43,9 @@ def crowded(bag, objects, folder):
 
 def main():
     parser = argparse.ArgumentParser(prog="bench_online")
-    parser.add_argument("--evaluation", required=True)
-    parser.add_argument("--launch", required=True)
+    # Given by scripts/bench_online, not by its user.
+    parser.add_argument("--evaluation", required=True, help=argparse.SUPPRESS)
+    parser.add_argument("--launch", required=True, help=argparse.SUPPRESS)
     parser.add_argument("--rate", type=float, default=10.0,
                         help="playback speed factor (default %(default)s); a method slower than "
                              "the frames come drops some (answered < frames)")

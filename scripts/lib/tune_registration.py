@@ -41,10 +41,16 @@ def evaluate(method, values, models, objects_root, work):
     scores = []
     for threshold in THRESHOLDS:
         out = os.path.join(work, "results.json")
-        subprocess.run(["rosrun", "granular_ros", "classify_registration", "--models", models,
-                        "--objects", os.path.join(objects_root, threshold), "--method", method,
-                        "--preset", "candidate", "--config", config, "--out", out],
-                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        run = subprocess.run(["rosrun", "granular_ros", "classify_registration", "--models",
+                              models, "--objects", os.path.join(objects_root, threshold),
+                              "--method", method, "--preset", "candidate", "--config", config,
+                              "--out", out],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                             check=False)
+        if run.returncode != 0:
+            lines = run.stderr.strip().splitlines() or ["(no message)"]
+            sys.exit(f"tune_registration: classify_registration failed on {threshold} with "
+                     f"{values}: {lines[-1]}")
         scores.append(accuracy(out))
     return sum(scores) / len(scores), scores
 

@@ -107,8 +107,10 @@ def main(argv=None):
                     "objects per class and how many of their boxes hold at least 10/50/100/300/500 "
                     "points.")
     parser.add_argument("bag")
-    parser.add_argument("--cloud-topic", default="/simulator/lidar")
-    parser.add_argument("--detections-topic", default="/simulator/ground_truth/3d_detections")
+    parser.add_argument("--cloud-topic", default="/simulator/lidar",
+                        help="sensor_msgs/PointCloud2 topic (default %(default)s)")
+    parser.add_argument("--detections-topic", default="/simulator/ground_truth/3d_detections",
+                        help="lgsvl_msgs/Detection3DArray topic (default %(default)s)")
     parser.add_argument("--slop", type=float, default=0.01, metavar="SECONDS",
                         help="pairing tolerance between stamps (default: %(default)s)")
     args = parser.parse_args(argv)

@@ -352,6 +352,28 @@ def test_invalid_boxes_are_skipped_and_counted(tmp_path):
 
 # ---------------------------------------------------------------------------- report
 
+def test_predictions_all_unknown_are_not_scored_by_class(tmp_path, capsys):
+    # Geometric cuboids without a classifier: a class-aware 0.000 would read as all wrong.
+    truth = {STAMP: [box_json(1, "Car", 0.0, 0.0), box_json(2, "Car", 10.0, 0.0)]}
+    unknown = {STAMP: [box_json(11, "unknown", 0.0, 0.0), box_json(12, "unknown", 10.0, 0.0)]}
+    cuboids.main(["--truth", str(write_frames(tmp_path / "truth", truth)), "--predicted",
+                  str(write_frames(tmp_path / "unknown", unknown)), "--out",
+                  str(tmp_path / "report")])
+    printed = capsys.readouterr().out
+    summary = json.loads((tmp_path / "report" / "summary.json").read_text())
+    assert summary["overall"]["unclassified_predictions"] == 2
+    assert "centre < 0.5 m, yaw < 10 deg       2     0     0  1.000  1.000  1.000               -" \
+        in printed
+    assert "class-aware: not scored, every prediction is unknown" in printed
+    assert "| 2 | 0 | 0 | 1.000 | 1.000 | 1.000 | - | - | - | - |" in \
+        (tmp_path / "report" / "index.md").read_text()
+    # One named prediction is enough to score by class.
+    named = {STAMP: [box_json(11, "Car", 0.0, 0.0), box_json(12, "unknown", 10.0, 0.0)]}
+    _, summary = evaluate(tmp_path, truth, named)
+    assert summary["overall"]["unclassified_predictions"] == 1
+    assert counts(summary, kind="class_aware") == (1, 1, 1)
+
+
 def test_report_has_the_summary_the_table_and_the_histograms(tmp_path):
     truth = {STAMP: [box_json(1, "Car", 0.0, 0.0), box_json(2, "Car", 10.0, 0.0)]}
     predicted = {STAMP: [box_json(11, "Car", 0.3, 0.0, yaw_deg=5)]}

@@ -4,6 +4,10 @@ that "Tram_/_Subway" names "Tram_%2F_Subway.pcd" and comes back exactly. Plain l
 SchoolBus) are unchanged."""
 import re
 
+# The label of an object no classifier has named (segments, geometric cuboids), as
+# granular_core's kUnknownLabel.
+UNKNOWN = "unknown"
+
 _PLAIN = re.compile(rb"[A-Za-z0-9_.]")
 _ESCAPE = re.compile(r"%([0-9A-F]{2})")
 

@@ -12,6 +12,7 @@ import numpy as np
 import yaml
 
 from ..bag_to_files.pcd import read_pcd
+from ..labels import UNKNOWN
 from ..output import absolute
 from .geometry import Cuboid, bev_iou, count_points_inside, iou_3d, yaw_difference_deg
 
@@ -314,6 +315,7 @@ class Tally:
     def __init__(self):
         self.truths = self.predictions = self.matched = 0
         self.truths_ignored = self.predictions_ignored = 0
+        self.unclassified = 0  # counted predictions labelled unknown
         self.tp = collections.Counter()
         self.tp_class = collections.Counter()
 
@@ -322,6 +324,9 @@ class Tally:
         self.truths_ignored += len(result.ignored_truths)
         self.predictions += len(result.predictions) - len(result.ignored_predictions)
         self.predictions_ignored += len(result.ignored_predictions)
+        self.unclassified += sum(prediction.label == UNKNOWN
+                                 for j, prediction in enumerate(result.predictions)
+                                 if j not in result.ignored_predictions)
         self.matched += len(result.pairs)
         for _, _, _, passed, same_class in result.pairs:
             for name, ok in passed.items():
@@ -332,7 +337,7 @@ class Tally:
         return {
             "truths": self.truths, "truths_ignored": self.truths_ignored,
             "predictions": self.predictions, "predictions_ignored": self.predictions_ignored,
-            "matched": self.matched,
+            "unclassified_predictions": self.unclassified, "matched": self.matched,
             "criteria": {n: scores(self.tp[n], self.truths, self.predictions) for n in CRITERIA},
             "class_aware": {n: scores(self.tp_class[n], self.truths, self.predictions)
                             for n in CRITERIA},

@@ -30,16 +30,30 @@ def _cell(value, digits=3):
     return "-" if value is None else f"{value:.{digits}f}"
 
 
+def unclassified(overall):
+    """Whether every counted prediction is labelled unknown (no classifier named it): the
+    class-aware figures then score nothing, and are shown as '-'."""
+    return overall["predictions"] > 0 and \
+        overall["unclassified_predictions"] == overall["predictions"]
+
+
+UNCLASSIFIED_NOTE = "not scored, every prediction is unknown (no classifier named it)"
+
+
 def criteria_table(overall):
     lines = ["| criterion | TP | FP | FN | precision | recall | F1 | class-aware TP "
              "| class-aware precision | class-aware recall | class-aware F1 |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name in CRITERIA:
         s, c = overall["criteria"][name], overall["class_aware"][name]
+        if unclassified(overall):
+            c = {"tp": "-", "precision": None, "recall": None, "f1": None}
         lines.append(f"| {CRITERION_TITLES[name]} | {s['tp']} | {s['fp']} | {s['fn']} "
                      f"| {_cell(s['precision'])} | {_cell(s['recall'])} | {_cell(s['f1'])} "
                      f"| {c['tp']} | {_cell(c['precision'])} | {_cell(c['recall'])} "
                      f"| {_cell(c['f1'])} |")
+    if unclassified(overall):
+        lines += ["", f"Class-aware: {UNCLASSIFIED_NOTE}."]
     return lines
 
 
@@ -165,9 +179,12 @@ def printed_table(summary):
              f"{'F1':>6}  {'class-aware F1':>14}"]
     for name in CRITERIA:
         s, c = overall["criteria"][name], overall["class_aware"][name]
+        class_aware = "-" if unclassified(overall) else _cell(c["f1"])
         lines.append(f"  {CRITERION_TITLES[name]:<30} {s['tp']:>5} {s['fp']:>5} {s['fn']:>5} "
                      f"{_cell(s['precision']):>6} {_cell(s['recall']):>6} {_cell(s['f1']):>6}"
-                     f"  {_cell(c['f1']):>14}")
+                     f"  {class_aware:>14}")
+    if unclassified(overall):
+        lines.append(f"  class-aware: {UNCLASSIFIED_NOTE}")
     e = overall["errors"]
     lines.append(f"  median errors: centre {_cell(e['centre_3d_m']['median'])} m, yaw "
                  f"{_cell(e['yaw_deg']['median'], 2)} deg, length "

@@ -8,7 +8,7 @@ import rospy
 from lgsvl_msgs.msg import Detection3DArray
 from std_msgs.msg import Float32
 
-UNKNOWN = "unknown"
+from ..labels import UNKNOWN
 
 
 def _nanoseconds(header):

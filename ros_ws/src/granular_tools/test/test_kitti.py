@@ -383,12 +383,17 @@ def test_stamps_past_ros_times_range_are_refused_before_writing(kitti_fixture, t
     assert list(tmp_path.iterdir()) == []
 
 
-def test_bad_options_are_exit_2(kitti_fixture, tmp_path):
+def test_bad_options_are_exit_2(kitti_fixture, tmp_path, capsys):
     for extra in (["--frames", "a-b"], ["--start-time", "-1"], ["--frame-id", ""],
                   ["--out", ""]):
         with pytest.raises(SystemExit) as exited:
             kitti.main([str(kitti_fixture), "--out", str(tmp_path / "x.bag"), *extra])
         assert exited.value.code == 2
+    # "²" is a digit to str.isdigit, but no frame number.
+    with pytest.raises(SystemExit) as exited:
+        kitti.main([str(kitti_fixture), "--out", str(tmp_path / "x.bag"), "--frames", "0-\u00b2"])
+    assert exited.value.code == 2
+    assert "expected frame numbers and ranges" in capsys.readouterr().err
 
 
 def test_the_script_tells_the_truth_in_help_and_fails_in_one_line(kitti_fixture, tmp_path):

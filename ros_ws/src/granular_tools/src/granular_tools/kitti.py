@@ -38,6 +38,18 @@ MAX_SELECTED_FRAMES = 100_000
 CLOUD_TOPIC = "/simulator/lidar"
 DETECTIONS_TOPIC = "/simulator/ground_truth/3d_detections"
 DEFAULT_START_TIME = 1586102742.0  # s since the epoch, as the simulator's default
+ROS_TIME_END = 2 ** 32  # s: ROS stamps count seconds in a uint32
+
+
+def is_frame_number(text):
+    """Whether `text` is a frame number as KITTI writes them: ASCII digits ("²" is a digit to
+    str.isdigit, and no number to int)."""
+    return text.isascii() and text.isdigit()
+
+
+def valid_start_time(seconds):
+    """Whether `seconds` can stamp a ROS message: finite, from 0 to 2^32 s."""
+    return math.isfinite(seconds) and 0.0 <= seconds < ROS_TIME_END
 # KITTI tracking calibration files spell two of the keys differently.
 _CALIB_KEYS = {"P2": ("P2",), "R0_rect": ("R0_rect", "R_rect"),
                "Tr_velo_to_cam": ("Tr_velo_to_cam", "Tr_velo_cam")}
@@ -341,7 +353,7 @@ def parse_frames(text):
     ranges = []
     for item in text.split(","):
         first, sep, last = item.strip().partition("-")
-        if not (first.isdigit() and (not sep or last.isdigit())):
+        if not (is_frame_number(first) and (not sep or is_frame_number(last))):
             raise argparse.ArgumentTypeError(
                 f"'{text}': expected frame numbers and ranges, e.g. 000000-000004 or 0,3,8")
         low, high = int(first), int(last if sep else first)
@@ -380,7 +392,7 @@ def list_frames(folder):
         stem, extension = os.path.splitext(name)
         if extension != ".bin":
             continue
-        if not (stem.isascii() and stem.isdigit()):  # "²" is a digit to str.isdigit
+        if not is_frame_number(stem):
             raise KittiError(f"{os.path.join(velodyne, name)}: not a KITTI frame name "
                              "(digits, e.g. 000008.bin)")
         number = int(stem)
@@ -504,7 +516,7 @@ def parse_args(argv):
                              "are then not read")
     parser.add_argument("--quiet", action="store_true", help="no progress or summary")
     args = parser.parse_args(argv)
-    if not (math.isfinite(args.start_time) and 0.0 <= args.start_time < 2 ** 32):
+    if not valid_start_time(args.start_time):
         parser.error(f"--start-time must be between 0 and 2^32 s, got {args.start_time}")
     if not args.frame_id.strip():
         parser.error("--frame-id must not be empty")
@@ -519,7 +531,7 @@ def convert(args):
     started = time.monotonic()
     frames = load_frames(args.folder, args.frames, boxes=not args.no_boxes)
     last_stamp = args.start_time + (len(frames) - 1) * FRAME_PERIOD
-    if last_stamp >= 2 ** 32:
+    if last_stamp >= ROS_TIME_END:
         raise KittiError(f"--start-time {args.start_time:.1f}: the last of {len(frames)} frames "
                          f"would be stamped {last_stamp:.1f} s, past ROS time's 2^32 s")
     read = [os.path.join(args.folder, VELODYNE, frame.stem + ".bin") for frame in frames]

@@ -18,7 +18,6 @@ unchanged, and read back through it.
 import argparse
 import collections
 import itertools
-import math
 import os
 import sys
 
@@ -61,7 +60,7 @@ def kitti_frames(calib, wanted, start_time):
     stems = {}
     for name in sorted(os.listdir(calib)):
         stem, extension = os.path.splitext(name)
-        if extension == LABEL_SUFFIX and stem.isascii() and stem.isdigit():
+        if extension == LABEL_SUFFIX and kitti.is_frame_number(stem):
             stems[int(stem)] = stem
     if not stems:
         raise UsageError(f"{calib}: no calib files (NNNNNN.txt)")
@@ -268,7 +267,7 @@ def parse_args(argv):
                           "or label file (file and line named), 130/143 interrupted. See "
                           "docs/labelling.md.")
     args = parser.parse_args(argv)
-    if not (math.isfinite(args.start_time) and 0.0 <= args.start_time < 2 ** 32):
+    if not kitti.valid_start_time(args.start_time):
         parser.error(f"--start-time must be between 0 and 2^32 s, as kitti_to_bag's, got "
                      f"{args.start_time}")
     return args

@@ -44,15 +44,16 @@ def criteria_table(overall):
     lines = ["| criterion | TP | FP | FN | precision | recall | F1 | class-aware TP "
              "| class-aware precision | class-aware recall | class-aware F1 |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
+    classless = unclassified(overall)
     for name in CRITERIA:
         s, c = overall["criteria"][name], overall["class_aware"][name]
-        if unclassified(overall):
+        if classless:
             c = {"tp": "-", "precision": None, "recall": None, "f1": None}
         lines.append(f"| {CRITERION_TITLES[name]} | {s['tp']} | {s['fp']} | {s['fn']} "
                      f"| {_cell(s['precision'])} | {_cell(s['recall'])} | {_cell(s['f1'])} "
                      f"| {c['tp']} | {_cell(c['precision'])} | {_cell(c['recall'])} "
                      f"| {_cell(c['f1'])} |")
-    if unclassified(overall):
+    if classless:
         lines += ["", f"Class-aware: {UNCLASSIFIED_NOTE}."]
     return lines
 
@@ -177,13 +178,14 @@ def printed_table(summary):
              f"ignored), {overall['matched']} matched",
              f"  {'criterion':<30} {'TP':>5} {'FP':>5} {'FN':>5} {'prec':>6} {'recall':>6} "
              f"{'F1':>6}  {'class-aware F1':>14}"]
+    classless = unclassified(overall)
     for name in CRITERIA:
         s, c = overall["criteria"][name], overall["class_aware"][name]
-        class_aware = "-" if unclassified(overall) else _cell(c["f1"])
+        class_aware = "-" if classless else _cell(c["f1"])
         lines.append(f"  {CRITERION_TITLES[name]:<30} {s['tp']:>5} {s['fp']:>5} {s['fn']:>5} "
                      f"{_cell(s['precision']):>6} {_cell(s['recall']):>6} {_cell(s['f1']):>6}"
                      f"  {class_aware:>14}")
-    if unclassified(overall):
+    if classless:
         lines.append(f"  class-aware: {UNCLASSIFIED_NOTE}")
     e = overall["errors"]
     lines.append(f"  median errors: centre {_cell(e['centre_3d_m']['median'])} m, yaw "

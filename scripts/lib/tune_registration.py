@@ -56,6 +56,9 @@ def evaluate(method, values, models, objects_root, work):
 
 
 def main(models, objects_root, *methods):
+    unknown = [method for method in methods if method not in CANDIDATES]
+    if unknown:
+        sys.exit(f"error: unknown method '{unknown[0]}' ({', '.join(CANDIDATES)})")
     with tempfile.TemporaryDirectory() as work:
         for method in methods or CANDIDATES:
             grid = CANDIDATES[method]

@@ -61,7 +61,7 @@ const char* const kUsage =
     "                     writeClassificationJson), against the plain loop's whole run\n"
     "                     (every object and model read with PCL's pcl::io::loadPCDFile, the\n"
     "                     report's loop, the same JSON written)\n"
-    "  --help             print this help and exit\n"
+    "  -h, --help         print this help and exit\n"
     "\n"
     "Exit status: 0 done (and ICP's and NDT's predictions agree), 1 failed or they differ,\n"
     "2 bad option, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n";

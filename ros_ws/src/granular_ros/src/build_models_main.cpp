@@ -46,7 +46,7 @@ std::string usage() {
           "  --mesh               also write a triangle mesh of each model\n"
           "  --overwrite          replace --out when a granular tool wrote it (a folder of other\n"
           "                       files is never replaced)\n"
-          "  --help               print this help and exit\n"
+          "  -h, --help           print this help and exit\n"
           "\n"
           "Progress goes to stderr, the summary table to stdout. --out is built beside itself\n"
           "and put in place when complete; a second run into it is refused meanwhile. Exit\n"

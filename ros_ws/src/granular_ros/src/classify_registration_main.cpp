@@ -57,7 +57,7 @@ std::string usage() {
           "                    lower bound of each model's fitness rejects the others): the\n"
           "                    same predictions, faster; the rejected pairs' fitness is null\n"
           "                    with \"rejected\": true, so svm_fitness cannot learn from the file\n"
-          "  --help            print this help and exit\n"
+          "  -h, --help        print this help and exit\n"
           "\n"
           "Progress and warnings go to stderr, a summary per criterion to stdout. Exit status:\n"
           "0 done, 1 failed (unreadable or empty folders, models in another frame, output not\n"

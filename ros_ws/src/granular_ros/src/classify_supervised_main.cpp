@@ -40,7 +40,7 @@ const char* const kUsage =
     "  --config FILE      YAML file with the feature settings you expect (config/\n"
     "                     supervised.yaml); a model trained with other settings is refused\n"
     "  --threads N        threads (default: every core)\n"
-    "  --help             print this help and exit\n"
+    "  -h, --help         print this help and exit\n"
     "\n"
     "Exit status: 0 done, 1 failed (unreadable model, folder or results, results registered\n"
     "otherwise than the model's, output not writable), 2 bad option, configuration, a model of\n"

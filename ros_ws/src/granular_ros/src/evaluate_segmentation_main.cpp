@@ -60,7 +60,7 @@ std::string usage() {
          "                         only, e.g. 40 for KITTI's camera-labelled frames\n"
          "                         (default 180: all around)\n"
          "  --max-range M          count objects and segments nearer than M metres only\n"
-         "  --help                 print this help and exit\n"
+         "  -h, --help             print this help and exit\n"
          "\n"
          "Exit status: 0 done, 1 failed (unreadable input, a classifier without the Background\n"
          "class, --save folder not writable or holding results without --overwrite), 2 bad\n"

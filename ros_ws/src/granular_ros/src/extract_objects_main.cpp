@@ -69,7 +69,7 @@ std::string usage() {
          "                    above override it\n"
          "  --overwrite       replace --out when a granular tool wrote it (a folder of other\n"
          "                    files is never replaced)\n"
-         "  --help            print this help and exit\n"
+         "  -h, --help        print this help and exit\n"
          "\n"
          "Progress goes to stderr, the summary (objects per label and threshold, frames/s) to\n"
          "stdout. --out is built beside itself and put in place when complete; a second run\n"

@@ -57,7 +57,7 @@ std::string usage() {
          "  --threads N            threads fitting a frame's objects (default: every core)\n"
          "  --overwrite            replace --out when a granular tool wrote it (a folder of\n"
          "                         other files is never replaced)\n"
-         "  --help                 print this help and exit\n"
+         "  -h, --help             print this help and exit\n"
          "\n"
          "the ground (both --boxes) and the segmentation (--boxes segment):\n" +
          granular_ros::BoxFreeOptions::help() +

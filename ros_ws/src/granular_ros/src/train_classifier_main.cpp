@@ -54,7 +54,7 @@ const char* const kUsage =
     "                    class keeps enough for the folds), then train the chosen nu and\n"
     "                    gamma on all; overrides svm.search_objects of --config\n"
     "  --threads N       threads for the features (default: every core)\n"
-    "  --help            print this help and exit\n"
+    "  -h, --help        print this help and exit\n"
     "\n"
     "Exit status: 0 trained, 1 failed (unreadable or empty folder or results, a single class,\n"
     "output not writable), 2 bad option or configuration, 130/143/129 interrupted by\n"

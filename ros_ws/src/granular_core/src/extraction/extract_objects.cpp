@@ -189,6 +189,20 @@ std::optional<OrientedBox> detectionBox(const Detection& detection, std::size_t 
   }
 }
 
+std::optional<OrientedBox> plausibleDetectionBox(const Detection& detection, std::size_t index,
+                                                 double max_box_size, std::string& problem) {
+  std::optional<OrientedBox> box = detectionBox(detection, index, problem);
+  if (box && box->size().maxCoeff() > max_box_size) {
+    std::ostringstream message;
+    message << detectionName(detection, index) << ": box of " << box->size().x() << " x "
+            << box->size().y() << " x " << box->size().z() << " m is larger than max_box_size ("
+            << max_box_size << " m): implausible";
+    problem = message.str();
+    return std::nullopt;
+  }
+  return box;
+}
+
 FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>& detections,
                                const ExtractionConfig& config) {
   FrameExtraction result;
@@ -211,18 +225,10 @@ FrameExtraction extractObjects(const Cloud& cloud, const std::vector<Detection>&
       continue;
     }
     std::string problem;
-    const std::optional<OrientedBox> box = detectionBox(detection, i, problem);
+    const std::optional<OrientedBox> box =
+        plausibleDetectionBox(detection, i, config.max_box_size, problem);
     if (!box) {
       result.errors.push_back(problem);
-      continue;
-    }
-    if (box->size().maxCoeff() > config.max_box_size) {
-      std::ostringstream size;
-      size << box->size().x() << " x " << box->size().y() << " x " << box->size().z();
-      result.errors.push_back(detectionName(detection, i) + ": box of " + size.str() +
-                              " m is larger than max_box_size (" +
-                              std::to_string(config.max_box_size) +
-                              " m); skipped as implausible");
       continue;
     }
     Cloud object = cropper ? cropper->crop(*box, config.padding)

@@ -104,14 +104,11 @@ std::vector<std::string> harvestSegments(const Cloud& cloud, const std::vector<S
   for (std::size_t i = 0; i < detections.size(); ++i) {
     const Detection& detection = detections[i];
     std::string problem;
-    if (const std::optional<OrientedBox> box = detectionBox(detection, i, problem)) {
-      if (box->size().maxCoeff() <= max_box_size) {
-        truth.push_back(*box);
-        truth_detection.push_back(&detection);
-        continue;
-      }
-      problem = detectionName(detection, i) + ": box larger than max_box_size (" +
-                std::to_string(max_box_size) + " m)";
+    if (const std::optional<OrientedBox> box =
+            plausibleDetectionBox(detection, i, max_box_size, problem)) {
+      truth.push_back(*box);
+      truth_detection.push_back(&detection);
+      continue;
     }
     if (segment_objects) {
       problems.push_back(problem + "; skipped, and the frame gives no " + config.label +

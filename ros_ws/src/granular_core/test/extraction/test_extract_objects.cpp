@@ -161,6 +161,25 @@ TEST_F(TiltedBoxTest, InvalidDetectionsAreReportedAndSkipped) {
   EXPECT_EQ(result.objects[0].cloud.size(), 1u);
 }
 
+TEST_F(TiltedBoxTest, BoxesBeyondMaxBoxSizeAreSkippedWithTheirSize) {
+  Detection huge = detection_;
+  huge.label = "Wall";
+  huge.size.x() = 1e30;
+  Detection at_bound = detection_;
+  at_bound.size.z() = 30.0;  // as large as the bound allows
+
+  Cloud cloud;
+  cloud.push_back(makePoint(detection_.centre, 0, 0.0));
+  const FrameExtraction result =
+      extractObjects(cloud, {huge, at_bound}, ExtractionConfig());  // max_box_size 30 m
+  ASSERT_EQ(result.errors.size(), 1u);
+  EXPECT_EQ(result.errors[0],
+            "detections[0] (id 7, Wall): box of 1e+30 x 1.9 x 1.5 m is larger than "
+            "max_box_size (30 m): implausible");
+  ASSERT_EQ(result.objects.size(), 1u);
+  EXPECT_EQ(result.objects[0].box.size().z(), 30.0);
+}
+
 TEST_F(TiltedBoxTest, NonUnitQuaternionGivesTheNormalisedResult) {
   Detection scaled = detection_;
   scaled.orientation.coeffs() *= 3.7;

@@ -22,6 +22,13 @@ std::string detectionName(const Detection& detection, std::size_t index);
 std::optional<OrientedBox> detectionBox(const Detection& detection, std::size_t index,
                                         std::string& problem);
 
+/// detectionBox, and nullopt too for a box longer, wider or higher than `max_box_size` m
+/// (ExtractionConfig's bound on plausible boxes), `problem` then giving its size
+/// ("detections[2] (id 7, Car): box of 1e+30 x 2 x 1.5 m is larger than max_box_size (30 m):
+/// implausible").
+std::optional<OrientedBox> plausibleDetectionBox(const Detection& detection, std::size_t index,
+                                                 double max_box_size, std::string& problem);
+
 /// The points of one detection, moved into its object frame.
 struct ExtractedObject {
   Detection detection;

@@ -161,13 +161,16 @@ def test_unreadable_bag_and_bad_slop_are_errors(tmp_path, capsys):
     assert str(not_a_bag) in capsys.readouterr().err
     # A bad value is a bad option (2), as an unknown one is, in a file as on the line.
     assert run(not_a_bag, tmp_path / "out", "--slop", "-1") == 2
-    assert "slop must be a positive number of seconds, got -1.0" in capsys.readouterr().err
+    assert "slop: -1.0 is out of range (allowed: > 0.0 and finite)" in capsys.readouterr().err
+    assert run(not_a_bag, tmp_path / "out", "--slop", "inf") == 2
+    assert "slop: inf is out of range" in capsys.readouterr().err
     assert run(not_a_bag, tmp_path / "out", "--queue-size", "0") == 2
-    assert "queue_size must be at least 1, got 0" in capsys.readouterr().err
+    assert "queue_size: 0 is out of range (allowed: >= 1)" in capsys.readouterr().err
     config = tmp_path / "bag_to_files.yaml"
-    config.write_text("slop: 0\n")
-    assert run(not_a_bag, tmp_path / "out", "--config", str(config)) == 2
-    assert f"{config}.slop: 0.0 is out of range" in capsys.readouterr().err
+    for value in ("0", ".inf"):
+        config.write_text(f"slop: {value}\n")
+        assert run(not_a_bag, tmp_path / "out", "--config", str(config)) == 2
+        assert f"{config}.slop: " in capsys.readouterr().err
 
 
 def test_pcd_and_json_read_back_into_the_messages_they_came_from(tmp_path):

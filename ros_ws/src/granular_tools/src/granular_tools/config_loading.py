@@ -4,6 +4,7 @@ Every tool keeps its defaults in a dataclass; a YAML file only overrides them. E
 file and the dotted key so that a user can fix the file without reading code.
 """
 import dataclasses
+import math
 import typing
 
 import yaml
@@ -16,13 +17,26 @@ class ConfigError(ValueError):
 
 
 def bounded(default=dataclasses.MISSING, *, factory=dataclasses.MISSING, above=None,
-            at_least=None, at_most=None, keys=None):
-    """A dataclass field whose loaded value must be > `above`, >= `at_least`, <= `at_most`, and
-    (a mapping) have only `keys`: a value outside is a ConfigError naming the file, the key, the
-    value and the allowed range, instead of a stage that fails later or silently does nothing."""
-    limits = {"above": above, "at_least": at_least, "at_most": at_most, "keys": keys}
+            at_least=None, at_most=None, finite=False, keys=None):
+    """A dataclass field whose loaded value must be > `above`, >= `at_least`, <= `at_most`,
+    not infinite with `finite`, and (a mapping) have only `keys`: a value outside is a
+    ConfigError naming the file, the key, the value and the allowed range, instead of a stage
+    that fails later or silently does nothing. NaN is always refused."""
+    limits = {"above": above, "at_least": at_least, "at_most": at_most, "finite": finite,
+              "keys": keys}
     return dataclasses.field(default=default, default_factory=factory,
                              metadata={"limits": limits})
+
+
+def check_fields(config, where=""):
+    """Check every bounded field of dataclass `config` as a file's values are checked when
+    loaded: for values that came another way (options, node parameters). Returns `config`;
+    the ConfigError names the field after `where`."""
+    for field in dataclasses.fields(config):
+        limits = field.metadata.get("limits")
+        if limits:
+            _check_limits(getattr(config, field.name), limits, f"{where}{field.name}")
+    return config
 
 
 def _check_limits(value, limits, where):
@@ -39,11 +53,14 @@ def _check_limits(value, limits, where):
         allowed.append(f">= {limits['at_least']}")
     if limits["at_most"] is not None:
         allowed.append(f"<= {limits['at_most']}")
+    if limits["finite"]:
+        allowed.append("finite")
     values = value if isinstance(value, (list, tuple)) else [value]
     for item in values:
         if (limits["above"] is not None and not item > limits["above"]) or \
                 (limits["at_least"] is not None and not item >= limits["at_least"]) or \
                 (limits["at_most"] is not None and not item <= limits["at_most"]) or \
+                (limits["finite"] and not math.isfinite(item)) or \
                 (isinstance(item, float) and item != item):
             raise ConfigError(f"{where}: {value!r} is out of range (allowed: "
                               f"{' and '.join(allowed)})")

@@ -1,8 +1,7 @@
 """bag-to-files parameters, shared by the offline reader and the live node."""
 import dataclasses
-import math
 
-from ..config_loading import ConfigError, bounded
+from ..config_loading import bounded, check_fields
 
 
 @dataclasses.dataclass(frozen=True)
@@ -10,7 +9,7 @@ class BagToFilesConfig:
     cloud_topic: str = "/simulator/lidar"
     detections_topic: str = "/simulator/ground_truth/3d_detections"
     # s, the most a cloud and a detection stamp may differ (report: 10 ms)
-    slop: float = bounded(0.01, above=0.0)
+    slop: float = bounded(0.01, above=0.0, finite=True)
     # messages per topic the synchroniser keeps while waiting for a match
     queue_size: int = bounded(10, at_least=1)
     # The bag has no boxes (a real sensor's): every cloud is written, with no detections file;
@@ -20,8 +19,4 @@ class BagToFilesConfig:
     def check(self):
         """The values given as options or node parameters (a file's are checked as loaded): a
         ConfigError (exit 2) naming the one out of range."""
-        if not (self.slop > 0.0 and math.isfinite(self.slop)):
-            raise ConfigError(f"slop must be a positive number of seconds, got {self.slop}")
-        if self.queue_size < 1:
-            raise ConfigError(f"queue_size must be at least 1, got {self.queue_size}")
-        return self
+        return check_fields(self)

@@ -6,6 +6,7 @@ import os
 import socket
 import subprocess
 import time
+import xml.etree.ElementTree as ElementTree
 
 import pytest
 
@@ -43,6 +44,27 @@ def ros_master():
     yield env
     master.terminate()
     master.wait(timeout=20)
+
+
+# --- what roslaunch --ros-args shows ---------------------------------------------------------
+
+@pytest.mark.parametrize("launch", sorted(p.name for p in (REPO_ROOT / "launch").glob("*.launch")))
+def test_ros_args_says_which_listed_required_arguments_are_not(launch):
+    """roslaunch --ros-args lists an argument whose default is empty, and one derived from
+    another, under "Required Arguments" (roslaunch's arg_dump takes an empty default for none):
+    their docs must say optional or derived, and every argument must have a doc."""
+    declared = {arg.get("name"): arg for arg in
+                ElementTree.parse(REPO_ROOT / "launch" / launch).getroot().iter("arg")}
+    shown = subprocess.run(["roslaunch", "--ros-args", str(REPO_ROOT / "launch" / launch)],
+                           capture_output=True, text=True, timeout=60, check=True).stdout
+    assert "undocumented" not in shown, shown
+    required = shown.split("Required Arguments:")[1].split("Optional Arguments:")[0] \
+        if "Required Arguments:" in shown else ""
+    for line in filter(None, (line.strip() for line in required.splitlines())):
+        name, doc = line.split(": ", 1)
+        arg = declared[name]
+        if arg.get("default") is not None or arg.get("value") is not None:
+            assert doc.startswith(("optional", "derived from")), line
 
 
 # --- pipeline.launch and its runner -------------------------------------------------------

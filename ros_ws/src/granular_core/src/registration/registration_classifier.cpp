@@ -42,6 +42,7 @@ struct LowestTwo {
 // One thread's buffers for scoring an object's fitness against every model.
 struct FitnessScratch {
   std::vector<ModelCloud> moved;
+  std::vector<float> squared_distances;
   std::vector<double> lower_bound;
   std::vector<std::size_t> order;
 };
@@ -52,15 +53,20 @@ void scoreFitness(const ModelCloud& source, const std::vector<NearestTree::Ptr>&
                   const std::vector<bool>& registered, bool early_rejection,
                   std::vector<PairResult>& result, FitnessScratch& scratch) {
   const std::size_t models = result.size();
+  scratch.moved.resize(models);
+  const auto score = [&](std::size_t m) {
+    result[m].fitness = trees[m]->fitnessOfMoved(scratch.moved[m], scratch.squared_distances);
+    result[m].inlier_shares = inlierShares(scratch.squared_distances);
+  };
   if (!early_rejection) {
     for (std::size_t m = 0; m < models; ++m) {
       if (registered[m]) {
-        result[m].fitness = trees[m]->fitness(source, result[m].transform);
+        NearestTree::moveForFitness(source, result[m].transform, scratch.moved[m]);
+        score(m);
       }
     }
     return;
   }
-  scratch.moved.resize(models);
   scratch.lower_bound.assign(models, 0.0);
   scratch.order.clear();
   for (std::size_t m = 0; m < models; ++m) {
@@ -86,7 +92,7 @@ void scoreFitness(const ModelCloud& source, const std::vector<NearestTree::Ptr>&
       pair.rejected = true;
       continue;
     }
-    pair.fitness = trees[m]->fitnessOfMoved(scratch.moved[m]);
+    score(m);
     if (std::isfinite(pair.fitness)) {
       any.offer(pair.fitness);
       if (pair.converged()) {

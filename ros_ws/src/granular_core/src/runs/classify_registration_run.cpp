@@ -29,6 +29,13 @@ nlohmann::json pairJson(const PairResult& result, bool with_transform) {
                          {"iterations", result.iterations}};
   const std::optional<double> fitness = result.reportedFitness();
   json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
+  if (fitness) {
+    nlohmann::json shares = nlohmann::json::object();
+    for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+      shares[inlierRadiusName(r)] = result.inlier_shares[r];
+    }
+    json["inlier_shares"] = shares;
+  }
   if (result.rejected) {
     json["rejected"] = true;
   }

@@ -107,10 +107,16 @@ void NearestTree::moveForFitness(const ModelCloud& source, const Eigen::Matrix4f
 }
 
 double NearestTree::fitnessOfMoved(const ModelCloud& moved) const {
+  std::vector<float> distances;
+  return fitnessOfMoved(moved, distances);
+}
+
+double NearestTree::fitnessOfMoved(const ModelCloud& moved, std::vector<float>& distances) const {
   if (mapping_.empty() || moved.empty()) {
+    distances.clear();
     return std::numeric_limits<double>::max();
   }
-  std::vector<float> distances(moved.size());
+  distances.resize(moved.size());
   // With a correspondence bound, the points ICP paired (within it) are answered by its
   // BoundedGrid from one cell's list; the kd-tree answers the rest.
   std::vector<std::size_t> far;

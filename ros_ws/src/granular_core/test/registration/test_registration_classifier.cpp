@@ -190,6 +190,56 @@ TEST_F(RegistrationTest, EarlyRejectionSkipsOnlyFitnessThatCannotDecide) {
   EXPECT_GT(rejected, objects.size());
 }
 
+// Per kInlierRadii radius, the share of `object`'s points, moved by `transform`, closer than it
+// to a point of `model` (brute force).
+InlierShares bruteForceShares(const ModelCloud& object, const ModelCloud& model,
+                              const Eigen::Matrix4f& transform) {
+  ModelCloud moved;
+  pcl::transformPointCloud(object, moved, transform);
+  InlierShares shares{};
+  for (const pcl::PointXYZ& point : moved) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (const pcl::PointXYZ& target : model) {
+      nearest = std::min(nearest, (point.getVector3fMap() - target.getVector3fMap()).squaredNorm());
+    }
+    for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+      shares[r] += nearest < kInlierRadii[r] * kInlierRadii[r] ? 1.0f : 0.0f;
+    }
+  }
+  for (float& share : shares) {
+    share /= static_cast<float>(moved.size());
+  }
+  return shares;
+}
+
+TEST_F(RegistrationTest, InlierSharesCountTheAlignedPointsNearTheModel) {
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    const RegistrationClassifier classifier(method, converging(), models_);
+    RegisterOptions early;
+    early.early_rejection = true;
+    const auto full = classifier.registerObjects(objects_);
+    const auto fast = classifier.registerObjects(objects_, early);
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+      for (std::size_t m = 0; m < models_.size(); ++m) {
+        const InlierShares expected =
+            bruteForceShares(objects_[i], models_[m].cloud, full[i][m].transform);
+        for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+          EXPECT_NEAR(full[i][m].inlier_shares[r], expected[r], 1e-6)
+              << registrationMethodName(method) << " object " << i << " model " << m;
+          // Scored with the fitness, or not at all.
+          EXPECT_EQ(fast[i][m].inlier_shares[r], fast[i][m].rejected ? 0.0f : expected[r]);
+        }
+      }
+      // A view of its own model, aligned, lies on it; the other model misses much of it.
+      const std::size_t own = truth_[i], other = 1 - truth_[i];
+      EXPECT_GT(full[i][own].inlier_shares[1], 0.95f) << registrationMethodName(method) << i;
+      EXPECT_LT(full[i][other].inlier_shares[1], full[i][own].inlier_shares[1] - 0.2f)
+          << registrationMethodName(method) << " object " << i;
+    }
+  }
+}
+
 TEST_F(RegistrationTest, ObjectsTooSmallAreRecordedNotRegistered) {
   ModelCloud two;
   two.push_back(pcl::PointXYZ(1.0f, 0.9f, 0.5f));

@@ -12,6 +12,7 @@
 
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/point_types.h"
+#include "granular_core/registration/inlier_shares.h"
 #include "granular_core/registration/registration_config.h"
 #include "granular_core/search/nearest_tree.h"
 
@@ -67,6 +68,8 @@ struct PairResult {
   /// neither the best nor the second best of the object under criterion 2 or 3
   /// (RegisterOptions::early_rejection).
   bool rejected = false;
+  /// Scored with the fitness (inlier_shares.h); zeros where the fitness is not.
+  InlierShares inlier_shares{};
   int iterations = 0;  ///< iterations run
   /// Maps the object onto the model (homogeneous, object frame to model frame).
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();

@@ -87,6 +87,9 @@ class NearestTree : public pcl::search::KdTree<pcl::PointXYZ> {
                              ModelCloud& moved);
   /// fitness() of a source moved by moveForFitness: the same value to the bit.
   double fitnessOfMoved(const ModelCloud& moved) const;
+  /// fitnessOfMoved(moved), and each moved point's squared distance to its nearest model
+  /// point in `squared_distances` (resized; empty for an empty source or model).
+  double fitnessOfMoved(const ModelCloud& moved, std::vector<float>& squared_distances) const;
 
   /// Builds the DistanceBound that fitnessLowerBound() reads (cells `cell` m wide, `margin` m
   /// beyond the model's box); after setInputCloud. Without it the lower bound is 0.

@@ -136,15 +136,16 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     for (const Cloud& object : objects) {
       clouds.push_back(toModelCloud(object));
     }
-    // fitness[object][method][model], as classify_registration's results record it.
-    std::vector<std::vector<std::vector<std::optional<double>>>> fitness(objects.size());
+    // pairs[object][method][model], as classify_registration's results record them.
+    std::vector<std::vector<std::vector<PairFitness>>> pairs(objects.size());
     for (const RegistrationClassifier& registration : impl_->fitness_registrations) {
       const std::vector<std::vector<PairResult>> results =
           registration.registerObjects(clouds, options);
       for (std::size_t i = 0; i < objects.size(); ++i) {
-        std::vector<std::optional<double>>& per_model = fitness[i].emplace_back();
+        std::vector<PairFitness>& per_model = pairs[i].emplace_back();
         for (const PairResult& result : results[i]) {
-          per_model.push_back(result.reportedFitness());
+          const std::optional<double> fitness = result.reportedFitness();
+          per_model.push_back({fitness, fitness ? result.inlier_shares : InlierShares{}});
         }
       }
     }
@@ -161,7 +162,8 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     parallelFor(classified.size(), impl_->threads, 4, [&](std::size_t k) {
       const std::size_t i = classified[k];
       features[k] = classifier.fitnessFeatures(
-          registrationFitnessFeatures(fitness[i], clouds[i].size()), objects[i]);
+          registrationFitnessFeatures(pairs[i], clouds[i].size(), classifier.takesInlierShares()),
+          objects[i]);
     });
     const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
     for (std::size_t k = 0; k < classified.size(); ++k) {

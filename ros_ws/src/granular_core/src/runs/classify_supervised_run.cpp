@@ -67,7 +67,9 @@ struct RegistrationResults {
   double seconds = 0.0;
   std::vector<std::string> files;
   std::vector<std::size_t> points;
-  std::vector<std::vector<std::optional<double>>> fitness;  // [object][model]
+  std::vector<std::vector<PairFitness>> pairs;  // [object][model]
+  /// Every registered pair records its inlier shares (files before them did not).
+  bool inlier_shares = true;
 };
 
 RegistrationResults readRegistrationResults(const fs::path& file) {
@@ -94,17 +96,28 @@ RegistrationResults readRegistrationResults(const fs::path& file) {
       results.files.push_back(object.at("file").get<std::string>());
       results.points.push_back(object.at("points").get<std::size_t>());
       const nlohmann::json& per_model = object.at("per_model");
-      std::vector<std::optional<double>> fitness;
+      std::vector<PairFitness> pairs;
       for (const std::string& model : results.models) {
-        if (per_model.at(model).value("rejected", false)) {
+        const nlohmann::json& pair_json = per_model.at(model);
+        if (pair_json.value("rejected", false)) {
           throw fail("written with --early-rejection: the fitness of the models that could not "
                      "win was not computed, and svm_fitness's features need every model's");
         }
-        const nlohmann::json& value = per_model.at(model).at("fitness");
-        fitness.push_back(value.is_number() ? std::optional<double>(value.get<double>())
-                                            : std::nullopt);
+        const nlohmann::json& value = pair_json.at("fitness");
+        PairFitness& pair = pairs.emplace_back();
+        if (!value.is_number()) {
+          continue;
+        }
+        pair.fitness = value.get<double>();
+        if (!pair_json.contains("inlier_shares")) {
+          results.inlier_shares = false;
+          continue;
+        }
+        for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+          pair.inlier_shares[r] = pair_json.at("inlier_shares").at(inlierRadiusName(r)).get<float>();
+        }
       }
-      results.fitness.push_back(std::move(fitness));
+      results.pairs.push_back(std::move(pairs));
     }
   } catch (const nlohmann::json::exception& error) {
     throw fail(std::string("not a classify_registration results file (") + error.what() + ")");
@@ -204,28 +217,40 @@ SupervisedRun classifyFolderSupervised(const SupervisedClassifier& classifier,
   return run;
 }
 
-RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& results) {
+RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& results,
+                                              bool inlier_shares) {
   if (results.empty()) {
     throw std::invalid_argument("no registration results files");
   }
   RegistrationFeatures features;
   nlohmann::json sources = nlohmann::json::array();
-  std::vector<std::vector<std::vector<std::optional<double>>>> fitness;  // [object][file][model]
+  std::vector<std::vector<std::vector<PairFitness>>> pairs;  // [object][file][model]
+  std::vector<std::string> share_names;
   for (std::size_t f = 0; f < results.size(); ++f) {
     const auto start = Clock::now();
     const RegistrationResults file = readRegistrationResults(results[f]);
+    if (inlier_shares && !file.inlier_shares) {
+      throw std::runtime_error(
+          results[f].string() + ": records no inlier shares (an earlier classify_registration "
+          "wrote it): register again, or use a classifier trained with svm_fitness.inlier_shares "
+          "false");
+    }
     features.registration_seconds += file.seconds;
     sources.push_back({{"method", file.method},
                        {"preset", file.preset},
                        {"parameters", file.parameters},
                        {"models", file.models}});
     for (const std::string& model : file.models) {
-      features.origin.names.push_back(file.method + "/" + file.preset + ":" + model);
+      const std::string name = file.method + "/" + file.preset + ":" + model;
+      features.origin.names.push_back(name);
+      for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+        share_names.push_back(name + ":within_" + inlierRadiusName(r) + "m");
+      }
     }
     if (f == 0) {
       features.folder.files = file.files;
       features.folder.points = file.points;
-      fitness.resize(file.files.size());
+      pairs.resize(file.files.size());
       for (const std::string& name : file.files) {
         features.folder.labels.push_back(objectClass(name));
       }
@@ -235,7 +260,7 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
                                "; give the results of one objects folder");
     }
     for (std::size_t i = 0; i < file.files.size(); ++i) {
-      fitness[i].push_back(file.fitness[i]);
+      pairs[i].push_back(file.pairs[i]);
     }
     // Reading is shared by the objects: its time goes to each in equal parts.
     const double share = microsecondsSince(start) / static_cast<double>(file.files.size());
@@ -245,10 +270,14 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
     }
   }
   features.origin.names.push_back("log_points");
+  if (inlier_shares) {
+    features.origin.names.insert(features.origin.names.end(), share_names.begin(),
+                                 share_names.end());
+  }
   features.origin.source = sources.dump();
-  for (std::size_t i = 0; i < fitness.size(); ++i) {
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
     features.folder.features.push_back(
-        registrationFitnessFeatures(fitness[i], features.folder.points[i]));
+        registrationFitnessFeatures(pairs[i], features.folder.points[i], inlier_shares));
   }
   return features;
 }
@@ -282,7 +311,8 @@ TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
                                 const SupervisedConfig& config, const fs::path& objects,
                                 int threads) {
   validate(config);
-  RegistrationFeatures features = readRegistrationFeatures(results);
+  RegistrationFeatures features =
+      readRegistrationFeatures(results, config.svm_fitness.inlier_shares);
   if (config.svm_fitness.histogram_weight > 0.0) {
     appendPointHistograms(features.folder, objects, config.histograms, threads);
     const std::vector<std::string> names = pointHistogramFeatureNames(config.histograms);
@@ -303,7 +333,7 @@ SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier
                                 " classifies object clouds, not registration results");
   }
   const auto start = Clock::now();
-  RegistrationFeatures features = readRegistrationFeatures(results);
+  RegistrationFeatures features = readRegistrationFeatures(results, classifier.takesInlierShares());
   requireSameSources(classifier.featureOrigin().source, features.origin.source, results);
   if (classifier.takesPointHistograms()) {
     appendPointHistograms(features.folder, objects, classifier.config().histograms, threads);

@@ -367,11 +367,12 @@ std::vector<std::string> pointHistogramFeatureNames(const PointHistogramConfig& 
   return names;
 }
 
-std::vector<float> registrationFitnessFeatures(
-    const std::vector<std::vector<std::optional<double>>>& fitness, std::size_t points) {
+std::vector<float> registrationFitnessFeatures(const std::vector<std::vector<PairFitness>>& pairs,
+                                               std::size_t points, bool inlier_shares) {
   std::vector<float> features;
-  for (const std::vector<std::optional<double>>& per_model : fitness) {
-    for (const std::optional<double>& value : per_model) {
+  for (const std::vector<PairFitness>& per_model : pairs) {
+    for (const PairFitness& pair : per_model) {
+      const std::optional<double>& value = pair.fitness;
       const double known =
           value && std::isfinite(*value) ? std::clamp(*value, kFitnessFloor, kUnregisteredFitness)
                                          : kUnregisteredFitness;
@@ -379,6 +380,15 @@ std::vector<float> registrationFitnessFeatures(
     }
   }
   features.push_back(static_cast<float>(std::log(std::max<std::size_t>(points, 1))));
+  if (inlier_shares) {
+    for (const std::vector<PairFitness>& per_model : pairs) {
+      for (const PairFitness& pair : per_model) {
+        for (const float share : pair.inlier_shares) {
+          features.push_back(static_cast<float>(std::log((share + 0.01) / (1.01 - share))));
+        }
+      }
+    }
+  }
   return features;
 }
 

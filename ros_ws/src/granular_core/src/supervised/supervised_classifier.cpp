@@ -219,6 +219,14 @@ bool endsWithPointHistograms(SupervisedMethod method, const FeatureOrigin& origi
          std::equal(histogram.begin(), histogram.end(), origin.names.end() - histogram.size());
 }
 
+// Whether svm_fitness's features hold its registrations' inlier shares (readRegistrationFeatures
+// names them "<method>/<preset>:<Model>:within_<radius>m").
+bool namesInlierShares(const FeatureOrigin& origin) {
+  return std::any_of(origin.names.begin(), origin.names.end(), [](const std::string& name) {
+    return name.find(":within_") != std::string::npos;
+  });
+}
+
 }  // namespace
 
 struct SupervisedClassifier::Impl {
@@ -229,6 +237,8 @@ struct SupervisedClassifier::Impl {
   FeatureOrigin origin;
   /// svm_fitness: whether its feature names end with the point histograms' (set with origin).
   bool point_histograms = false;
+  /// svm_fitness: whether its features hold the inlier shares (set with origin).
+  bool inlier_shares = false;
   /// Each feature is used as (value - offset) * scale: standardised (kNN's option: offset the
   /// training mean, scale 1 / deviation) or, for the SVM, mapped to [0, 1] over the training
   /// set (offset the minimum, scale 1 / range), as libsvm's guide advises: a histogram bin that
@@ -280,6 +290,8 @@ const TrainingSummary& SupervisedClassifier::training() const { return impl_->tr
 const FeatureOrigin& SupervisedClassifier::featureOrigin() const { return impl_->origin; }
 
 bool SupervisedClassifier::takesPointHistograms() const { return impl_->point_histograms; }
+
+bool SupervisedClassifier::takesInlierShares() const { return impl_->inlier_shares; }
 
 std::vector<float> SupervisedClassifier::fitnessFeatures(std::vector<float> fitness,
                                                          const Cloud& object) const {
@@ -359,6 +371,7 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
   if (named) {
     impl.origin = origin;
     impl.point_histograms = endsWithPointHistograms(method, origin, config.histograms);
+    impl.inlier_shares = namesInlierShares(origin);
   }
   std::sort(impl.labels.begin(), impl.labels.end());
   impl.labels.erase(std::unique(impl.labels.begin(), impl.labels.end()), impl.labels.end());
@@ -589,6 +602,7 @@ SupervisedClassifier SupervisedClassifier::load(const std::filesystem::path& fil
       throw fail("svm_fitness without the names of its features");
     }
     impl.point_histograms = endsWithPointHistograms(impl.method, impl.origin, histograms);
+    impl.inlier_shares = namesInlierShares(impl.origin);
     if (static_cast<int>(storage["feature_size"]) != static_cast<int>(impl.size())) {
       throw fail("its feature size " + std::to_string(static_cast<int>(storage["feature_size"])) +
                  " does not match its feature configuration (" + std::to_string(impl.size()) +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -58,6 +59,7 @@ class FitnessProfileTest : public TemporaryFolderTest {
 
   // classify_registration's results file of `objects` for a method, every fitness times
   // `scale`; `unregistered` objects (by index) have no fitness against the Hatchback model.
+  // Each registered pair's inlier shares are share_(object, model) at every radius.
   fs::path results(const std::string& name, const std::string& method,
                    const std::vector<Object>& objects, double scale,
                    const std::vector<std::size_t>& unregistered = {}) const {
@@ -71,6 +73,11 @@ class FitnessProfileTest : public TemporaryFolderTest {
         per_model[model] = {{"converged", true},
                             {"fitness", missing ? nlohmann::json(nullptr)
                                                 : nlohmann::json(scale * fitness(objects[i], model))}};
+        if (!missing) {
+          for (const char* radius : {"0.03", "0.06", "0.1", "0.2"}) {
+            per_model[model]["inlier_shares"][radius] = share_(objects[i], model);
+          }
+        }
       }
       list.push_back({{"file", objects[i].file},
                       {"points", objects[i].points},
@@ -86,6 +93,8 @@ class FitnessProfileTest : public TemporaryFolderTest {
   }
 
   std::vector<Object> train_, test_;
+  std::function<float(const Object&, const std::string&)> share_ =
+      [](const Object&, const std::string&) { return 0.5f; };
 };
 
 TEST_F(FitnessProfileTest, LearnsWhatTheLowestFitnessGetsWrong) {
@@ -100,6 +109,7 @@ TEST_F(FitnessProfileTest, LearnsWhatTheLowestFitnessGetsWrong) {
 
   SupervisedConfig config;
   config.svm.refinements = 1;
+  config.svm_fitness.inlier_shares = false;
   config.svm_fitness.histogram_weight = 0.0;  // the fitness alone: no objects to read
   const TrainingRun training =
       trainOnRegistration({results("train_icp.json", "icp", train_, 1.0),
@@ -170,6 +180,13 @@ TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
   EXPECT_NE(refusal({icp, rejected}).find(rejected.string() + ": written with --early-rejection"),
             std::string::npos)
       << refusal({icp, rejected});
+  // Written before the inlier shares were recorded.
+  nlohmann::json older = nlohmann::json::parse(read(ndt));
+  older["objects"][3]["per_model"]["Hatchback"].erase("inlier_shares");
+  const fs::path unshared = write("unshared.json", older.dump());
+  EXPECT_NE(refusal({icp, unshared}).find(unshared.string() + ": records no inlier shares"),
+            std::string::npos)
+      << refusal({icp, unshared});
   // Not a results file at all.
   const fs::path broken = write("broken.json", "{\"models\": [\"Sedan\"]");
   EXPECT_NE(refusal({icp, broken}).find(broken.string() + ": not a classify_registration"),
@@ -226,6 +243,7 @@ TEST_F(FitnessProfileTest, PointHistogramsTellApartWhatTheFitnessCannot) {
 
   SupervisedConfig config;
   config.svm.refinements = 0;
+  config.svm_fitness.inlier_shares = false;  // the same for both classes here
   config.svm_fitness.histogram_weight = 0.0;
   const TrainingRun fitness_only = trainOnRegistration({train}, config);
   EXPECT_FALSE(fitness_only.classifier.takesPointHistograms());
@@ -247,10 +265,57 @@ TEST_F(FitnessProfileTest, PointHistogramsTellApartWhatTheFitnessCannot) {
   EXPECT_THROW(classifyRegistrationResults(loaded, {test}), std::invalid_argument);
 }
 
+TEST_F(FitnessProfileTest, InlierSharesTellApartWhatTheFitnessCannot) {
+  // Every object has the same fitness against both models: a model that explains most of the
+  // object closely but misses a part of it (a Hatchback's rear against the Sedan model's
+  // trunk) can have the fitness of one that explains all of it loosely. How many points lie
+  // close to each model tells the two apart.
+  share_ = [](const Object& object, const std::string& model) {
+    return object.file.rfind(model, 0) == 0 ? 0.8f : 0.55f;
+  };
+  for (auto* objects : {&train_, &test_}) {
+    for (Object& object : *objects) {
+      object.points = 300;
+    }
+  }
+  const auto alike = [&](const std::string& name, const std::vector<Object>& objects) {
+    nlohmann::json document = nlohmann::json::parse(read(results(name, "icp", objects, 1.0)));
+    for (nlohmann::json& object : document["objects"]) {
+      object["per_model"]["Hatchback"]["fitness"] = 0.01;
+      object["per_model"]["Sedan"]["fitness"] = 0.01;
+    }
+    return write(name, document.dump());
+  };
+  const fs::path train = alike("train_icp.json", train_);
+  const fs::path test = alike("test_icp.json", test_);
+  const auto right = [](const SupervisedRun& run) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < run.files.size(); ++i) {
+      count += run.predicted[i] == run.true_labels[i];
+    }
+    return count;
+  };
+  SupervisedConfig config;
+  config.svm.refinements = 0;
+  config.svm_fitness.histogram_weight = 0.0;
+  config.svm_fitness.inlier_shares = false;
+  const TrainingRun without = trainOnRegistration({train}, config);
+  EXPECT_FALSE(without.classifier.takesInlierShares());
+  EXPECT_EQ(right(classifyRegistrationResults(without.classifier, {test})), test_.size() / 2);
+
+  config.svm_fitness.inlier_shares = true;
+  const fs::path model = root_ / "svm_fitness.yml";
+  trainOnRegistration({train}, config).classifier.save(model);
+  const SupervisedClassifier loaded = SupervisedClassifier::load(model);
+  EXPECT_TRUE(loaded.takesInlierShares());
+  EXPECT_EQ(loaded.featureOrigin().names.size(), 2u + 1u + 2u * 4u);
+  EXPECT_EQ(right(classifyRegistrationResults(loaded, {test})), test_.size());
+}
+
 TEST_F(FitnessProfileTest, FeaturesAreLogFitnessAndLogPoints) {
   const std::vector<Object> objects = {{"Sedan-1-1.pcd", 100, 0.01}, {"Sedan-2-1.pcd", 0, 0.02}};
   const RegistrationFeatures features =
-      readRegistrationFeatures({results("icp.json", "icp", objects, 1.0, {1})});
+      readRegistrationFeatures({results("icp.json", "icp", objects, 1.0, {1})}, false);
   ASSERT_EQ(features.folder.features.size(), 2u);
   EXPECT_EQ(features.folder.labels, (std::vector<std::string>{"Sedan", "Sedan"}));
   const std::vector<float>& first = features.folder.features[0];
@@ -262,9 +327,34 @@ TEST_F(FitnessProfileTest, FeaturesAreLogFitnessAndLogPoints) {
   const std::vector<float>& second = features.folder.features[1];
   EXPECT_FLOAT_EQ(second[0], std::log(static_cast<float>(kUnregisteredFitness)));
   EXPECT_FLOAT_EQ(second[2], 0.0f);
-  EXPECT_EQ(registrationFitnessFeatures({{0.0, std::nullopt}}, 1),
+  EXPECT_EQ(registrationFitnessFeatures({{{0.0, {}}, {std::nullopt, {}}}}, 1, false),
             (std::vector<float>{static_cast<float>(std::log(kFitnessFloor)),
                                 static_cast<float>(std::log(kUnregisteredFitness)), 0.0f}));
+}
+
+TEST_F(FitnessProfileTest, InlierSharesFollowAsTheirLogOdds) {
+  const std::vector<Object> objects = {{"Sedan-1-1.pcd", 100, 0.01}, {"Sedan-2-1.pcd", 0, 0.02}};
+  share_ = [](const Object&, const std::string& model) { return model == "Sedan" ? 1.0f : 0.0f; };
+  const RegistrationFeatures features =
+      readRegistrationFeatures({results("icp.json", "icp", objects, 1.0, {1})}, true);
+  const std::vector<std::string>& names = features.origin.names;
+  ASSERT_EQ(names.size(), 2u + 1u + 2u * 4u);
+  EXPECT_EQ(names[2], "log_points");
+  EXPECT_EQ(names[3], "icp/tuned:Hatchback:within_0.03m");
+  EXPECT_EQ(names[6], "icp/tuned:Hatchback:within_0.2m");
+  EXPECT_EQ(names[7], "icp/tuned:Sedan:within_0.03m");
+  // log((s + 0.01) / (1.01 - s)): none within is log(1 / 101), all within log(101).
+  const std::vector<float>& first = features.folder.features[0];
+  ASSERT_EQ(first.size(), names.size());
+  EXPECT_FLOAT_EQ(first[2], std::log(100.0f));
+  for (std::size_t r = 0; r < 4; ++r) {
+    EXPECT_FLOAT_EQ(first[3 + r], -std::log(101.0f)) << r;
+    EXPECT_FLOAT_EQ(first[7 + r], std::log(101.0f)) << r;
+  }
+  // Not registered against the Hatchback model: nothing lies near it.
+  EXPECT_FLOAT_EQ(features.folder.features[1][3], -std::log(101.0f));
+  EXPECT_FLOAT_EQ(registrationFitnessFeatures({{{0.01, {0.5f, 0.5f, 0.5f, 0.5f}}}}, 1, true)[2],
+                  0.0f);
 }
 
 }  // namespace

@@ -74,16 +74,20 @@ TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod 
 /// every model): per object registrationFitnessFeatures over the files in the order given.
 struct RegistrationFeatures {
   FolderFeatures folder;  ///< microseconds: reading and building each object's features
-  /// Names "<method>/<preset>:<Model>" and "log_points"; the source: per file its method,
+  /// Names "<method>/<preset>:<Model>", "log_points" and with inlier shares
+  /// "<method>/<preset>:<Model>:within_<radius>m"; the source: per file its method,
   /// preset, parameters and models (the preset's name is not compared, its parameters are).
   FeatureOrigin origin;
   double registration_seconds = 0.0;  ///< the files' own registration times, summed
 };
 
-/// Reads classify_registration results files (writeClassificationJson) of one objects folder.
-/// Throws std::runtime_error naming the file when one cannot be read, is not such a file, has
-/// no objects, or lists other objects (or in another order) than the first.
-RegistrationFeatures readRegistrationFeatures(const std::vector<std::filesystem::path>& results);
+/// Reads classify_registration results files (writeClassificationJson) of one objects folder,
+/// with each pair's inlier shares among the features when `inlier_shares`. Throws
+/// std::runtime_error naming the file when one cannot be read, is not such a file, has no
+/// objects, lists other objects (or in another order) than the first, or has no inlier shares
+/// that are asked for.
+RegistrationFeatures readRegistrationFeatures(const std::vector<std::filesystem::path>& results,
+                                              bool inlier_shares);
 
 /// Trains svm_fitness on the registration results of a training objects folder; with
 /// config.svm_fitness.histogram_weight above 0 also on the point histograms of its objects,

@@ -12,6 +12,7 @@
 
 #include "granular_core/config/fields.h"
 #include "granular_core/point_types.h"
+#include "granular_core/registration/inlier_shares.h"
 
 namespace granular {
 
@@ -141,14 +142,24 @@ constexpr double kUnregisteredFitness = 100.0;
 /// Below this (m^2, a millimetre's RMS) fitness values are taken as equal: the log stays finite.
 constexpr double kFitnessFloor = 1e-6;
 
+/// What svm_fitness reads of one object's registration against one class model, as
+/// classify_registration's results record it.
+struct PairFitness {
+  std::optional<double> fitness;  ///< m^2; none: not registered, or no finite fitness
+  InlierShares inlier_shares{};   ///< zeros where the fitness is none
+};
+
 /// kRegistrationFitness: for each registration method in turn, the natural log of the
-/// object's fitness against each class model (`fitness[method][model]`, m^2, clamped to
+/// object's fitness against each class model (`pairs[method][model]`, m^2, clamped to
 /// [kFitnessFloor, kUnregisteredFitness]; none or non-finite is kUnregisteredFitness), then
-/// the log of its point count (at least 1). A Hatchback's fitness against the Sedan model is
-/// nearly its fitness against its own: the whole profile over the models, with how sparse the
-/// object is, tells them apart better than the lowest value alone.
-std::vector<float> registrationFitnessFeatures(
-    const std::vector<std::vector<std::optional<double>>>& fitness, std::size_t points);
+/// the log of its point count (at least 1), then with `inlier_shares` for each method, model
+/// and radius in turn the log-odds of the inlier share s, log((s + 0.01) / (1.01 - s)), which
+/// spreads the shares near 0 and 1 where a close model and a closer one differ. A Hatchback's
+/// fitness against the Sedan model is nearly its fitness against its own: the whole profile
+/// over the models, with how sparse the object is, tells them apart better than the lowest
+/// value alone.
+std::vector<float> registrationFitnessFeatures(const std::vector<std::vector<PairFitness>>& pairs,
+                                               std::size_t points, bool inlier_shares);
 
 /// pcl::ESFEstimation's 640 values (zeros for fewer than 3 points).
 std::vector<float> esfFeatures(const Cloud& object);

@@ -90,16 +90,19 @@ struct SvmConfig {
   }
 };
 
-/// svm_fitness's features beside the registration fitness: the object's point-feature
-/// histograms (the svm's 60 values, computed with `histograms`), each scaled to [0, 1] over the
-/// training set as every SVM feature is, then multiplied by `histogram_weight`, so that the
-/// shape they describe moves the RBF kernel's distances without drowning the fitness values.
-/// 0: the fitness values alone (and no objects folder needed).
+/// svm_fitness's features beside the registration fitness: with `inlier_shares`, each
+/// registration's inlier shares (inlier_shares.h; registrationFitnessFeatures); and the
+/// object's point-feature histograms (the svm's 60 values, computed with `histograms`), each
+/// scaled to [0, 1] over the training set as every SVM feature is, then multiplied by
+/// `histogram_weight`, so that the shape they describe moves the RBF kernel's distances
+/// without drowning the fitness values. 0: no histograms (and no objects folder needed).
 struct SvmFitnessConfig {
+  bool inlier_shares = true;
   double histogram_weight = 0.3;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
+    visit("inlier_shares", self.inlier_shares);
     visit("histogram_weight", self.histogram_weight, config::nonNegative());
   }
 };
@@ -184,6 +187,9 @@ class SupervisedClassifier {
   /// svm_fitness: whether its features end with the object's point histograms
   /// (pointHistogramFeatureNames), which fitnessFeatures() appends.
   bool takesPointHistograms() const;
+  /// svm_fitness: whether its features hold the registrations' inlier shares
+  /// (registrationFitnessFeatures with inlier_shares), as its feature names say.
+  bool takesInlierShares() const;
   /// svm_fitness: the feature vector of an object from its registration fitness features
   /// (registrationFitnessFeatures) and, when the classifier takes them, its cloud's point
   /// histograms (`object` in its own frame; unused otherwise).

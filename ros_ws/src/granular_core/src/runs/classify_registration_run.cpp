@@ -1,9 +1,11 @@
 #include "granular_core/runs/classify_registration_run.h"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <sstream>
@@ -23,6 +25,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The double whose shortest text is `value`'s as a float (at most 9 digits): the file then
+// holds "0.016393442", not the widened float's "0.016393441706895828", and reads back as the
+// same float, so that features from the file and the online node's agree.
+double asWritten(float value) {
+  char text[32];
+  const std::to_chars_result end = std::to_chars(text, text + sizeof(text), value);
+  return std::strtod(std::string(text, end.ptr).c_str(), nullptr);
+}
+
 nlohmann::json pairJson(const PairResult& result, bool with_transform) {
   nlohmann::json json = {{"converged", result.converged()},
                          {"state", registrationStateName(result.state)},
@@ -30,9 +41,9 @@ nlohmann::json pairJson(const PairResult& result, bool with_transform) {
   const std::optional<double> fitness = result.reportedFitness();
   json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
   if (fitness) {
-    nlohmann::json shares = nlohmann::json::object();
-    for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
-      shares[inlierRadiusName(r)] = result.inlier_shares[r];
+    nlohmann::json shares = nlohmann::json::array();
+    for (const float share : result.inlier_shares) {
+      shares.push_back(asWritten(share));
     }
     json["inlier_shares"] = shares;
   }
@@ -227,6 +238,7 @@ void writeClassificationJson(const fs::path& file, const ClassificationRun& run,
                                    {"preset", run.preset},
                                    {"parameters", registrationParameters(run.method, run.config)},
                                    {"models", run.models},
+                                   {"inlier_radii", kInlierRadii},
                                    {"seconds", run.seconds},
                                    {"threads", run.threads},
                                    {"objects", objects},

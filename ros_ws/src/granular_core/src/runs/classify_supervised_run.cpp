@@ -68,7 +68,7 @@ struct RegistrationResults {
   std::vector<std::string> files;
   std::vector<std::size_t> points;
   std::vector<std::vector<PairFitness>> pairs;  // [object][model]
-  /// Every registered pair records its inlier shares (files before them did not).
+  /// The file records inlier shares (its inlier_radii; files before them did not).
   bool inlier_shares = true;
 };
 
@@ -92,6 +92,13 @@ RegistrationResults readRegistrationResults(const fs::path& file) {
     results.parameters = document.at("parameters");
     results.models = document.at("models").get<std::vector<std::string>>();
     results.seconds = document.value("seconds", 0.0);
+    if (!document.contains("inlier_radii")) {
+      results.inlier_shares = false;
+    } else if (document.at("inlier_radii").get<std::vector<double>>() !=
+               std::vector<double>(kInlierRadii.begin(), kInlierRadii.end())) {
+      throw fail("inlier shares measured at " + document.at("inlier_radii").dump() +
+                 " m, not at the radii this granular uses; register again");
+    }
     for (const nlohmann::json& object : document.at("objects")) {
       results.files.push_back(object.at("file").get<std::string>());
       results.points.push_back(object.at("points").get<std::size_t>());
@@ -109,12 +116,13 @@ RegistrationResults readRegistrationResults(const fs::path& file) {
           continue;
         }
         pair.fitness = value.get<double>();
-        if (!pair_json.contains("inlier_shares")) {
-          results.inlier_shares = false;
-          continue;
-        }
-        for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
-          pair.inlier_shares[r] = pair_json.at("inlier_shares").at(inlierRadiusName(r)).get<float>();
+        if (results.inlier_shares) {
+          const std::vector<float> shares = pair_json.at("inlier_shares").get<std::vector<float>>();
+          if (shares.size() != kInlierRadii.size()) {
+            throw fail(object.at("file").get<std::string>() + ": " + model + ": " +
+                       std::to_string(shares.size()) + " inlier shares, not one per radius");
+          }
+          std::copy(shares.begin(), shares.end(), pair.inlier_shares.begin());
         }
       }
       results.pairs.push_back(std::move(pairs));

@@ -74,9 +74,7 @@ class FitnessProfileTest : public TemporaryFolderTest {
                             {"fitness", missing ? nlohmann::json(nullptr)
                                                 : nlohmann::json(scale * fitness(objects[i], model))}};
         if (!missing) {
-          for (const char* radius : {"0.03", "0.06", "0.1", "0.2"}) {
-            per_model[model]["inlier_shares"][radius] = share_(objects[i], model);
-          }
+          per_model[model]["inlier_shares"] = std::vector<float>(4, share_(objects[i], model));
         }
       }
       list.push_back({{"file", objects[i].file},
@@ -87,6 +85,7 @@ class FitnessProfileTest : public TemporaryFolderTest {
                                      {"preset", "tuned"},
                                      {"parameters", {{"max_iterations", 30}}},
                                      {"models", {"Hatchback", "Sedan"}},
+                                     {"inlier_radii", {0.03, 0.06, 0.1, 0.2}},
                                      {"seconds", 1.5},
                                      {"objects", list}};
     return write(name, document.dump());
@@ -180,13 +179,18 @@ TEST_F(FitnessProfileTest, ResultsOfOtherRegistrationsAreRefused) {
   EXPECT_NE(refusal({icp, rejected}).find(rejected.string() + ": written with --early-rejection"),
             std::string::npos)
       << refusal({icp, rejected});
-  // Written before the inlier shares were recorded.
+  // Written before the inlier shares were recorded, or with other radii.
   nlohmann::json older = nlohmann::json::parse(read(ndt));
-  older["objects"][3]["per_model"]["Hatchback"].erase("inlier_shares");
+  older.erase("inlier_radii");
   const fs::path unshared = write("unshared.json", older.dump());
   EXPECT_NE(refusal({icp, unshared}).find(unshared.string() + ": records no inlier shares"),
             std::string::npos)
       << refusal({icp, unshared});
+  older["inlier_radii"] = {0.05, 0.1, 0.2, 0.4};
+  const fs::path other_radii = write("other_radii.json", older.dump());
+  EXPECT_NE(refusal({icp, other_radii}).find(other_radii.string() + ": inlier shares measured at"),
+            std::string::npos)
+      << refusal({icp, other_radii});
   // Not a results file at all.
   const fs::path broken = write("broken.json", "{\"models\": [\"Sedan\"]");
   EXPECT_NE(refusal({icp, broken}).find(broken.string() + ": not a classify_registration"),

@@ -81,9 +81,11 @@ struct ClassificationJsonOptions {
 
 /// Writes `run` as JSON to `file`, under a temporary name in the same folder renamed to `file`
 /// at the end:
-///   {"method", "preset", "parameters": {...}, "models": [...], "seconds", "threads",
+///   {"method", "preset", "parameters": {...}, "models": [...],
+///    "inlier_radii": [kInlierRadii, m], "seconds", "threads",
 ///    "objects": [{"file", "true_label", "points", "points_used",
 ///                 "per_model": {"<Class>": {"fitness", "converged", "state", "iterations",
+///                                          "inlier_shares": [one per radius] (with a fitness),
 ///                                          "transform": [16 numbers, row-major] (when asked)}},
 ///                 "predictions": {"criterion1": "<Class>"|null, "criterion2", "criterion3"}}],
 ///    "missing": {"criterion1": n, ...},

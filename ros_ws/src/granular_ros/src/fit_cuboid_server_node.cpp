@@ -73,7 +73,20 @@ class FitCuboidServer {
 
 }  // namespace
 
+constexpr char kHelp[] =
+    "usage: rosrun granular_ros fit_cuboid_server (a ROS node; launch/label_cuboids.launch starts it)\n"
+    "\n"
+    "The labelling tool's new boxes: the service fit_cuboid (granular_ros/FitCuboid) fits a cuboid\n"
+    "around a clicked point of a frame's PCD. Its private parameters are config/cuboids.yaml's (the\n"
+    "click:, points: and lshape: sections count; docs/labelling.md); a misspelt one stops it at\n"
+    "start-up, naming the known ones. Needs a ROS master.\n"
+    "\n"
+    "Exit status: 0 shut down, 1 bad parameters at start-up.\n";
+
 int main(int argc, char** argv) {
+  if (granular_ros::answerNodeHelp(argc, argv, kHelp)) {
+    return 0;
+  }
   ros::init(argc, argv, "fit_cuboid_server");
   ros::NodeHandle node;
   ros::NodeHandle private_node("~");

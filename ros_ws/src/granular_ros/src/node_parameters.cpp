@@ -1,5 +1,7 @@
 #include "granular_ros/node_parameters.h"
 
+#include <cstring>
+#include <iostream>
 #include <stdexcept>
 
 #include <xmlrpcpp/XmlRpcValue.h>
@@ -37,6 +39,16 @@ granular::config::Json toJson(XmlRpc::XmlRpcValue& value) {
 }
 
 }  // namespace
+
+bool answerNodeHelp(int argc, char** argv, const char* help) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::cout << help;
+      return true;
+    }
+  }
+  return false;
+}
 
 granular::config::Json parametersOf(const ros::NodeHandle& node) {
   XmlRpc::XmlRpcValue parameters;

@@ -326,7 +326,23 @@ class OnlineClassifier {
 
 }  // namespace
 
+constexpr char kHelp[] =
+    "usage: rosrun granular_ros online_classifier (a ROS node; launch/online.launch starts it)\n"
+    "\n"
+    "Classifies the objects of a LiDAR stream as it arrives: pairs each cloud (~cloud,\n"
+    "sensor_msgs/PointCloud2) with its 3-D detections (~detections, lgsvl_msgs/Detection3DArray)\n"
+    "within ~slop, crops every detection's points into its object frame, classifies them with a\n"
+    "registration method against class models or a supervised classifier, and publishes the\n"
+    "detections with the predicted labels (~output), rviz markers (~markers) and each frame's\n"
+    "processing time (~latency_ms). Its parameters are config/online.yaml's (docs/online.md); a\n"
+    "misspelt one stops it at start-up, naming the known ones. Needs a ROS master.\n"
+    "\n"
+    "Exit status: 0 shut down, 1 bad parameters or inputs at start-up.\n";
+
 int main(int argc, char** argv) {
+  if (granular_ros::answerNodeHelp(argc, argv, kHelp)) {
+    return 0;
+  }
   ros::init(argc, argv, "online_classifier");
   ros::NodeHandle node;
   ros::NodeHandle private_node("~");

@@ -114,7 +114,22 @@ class SegmentCloud {
 
 }  // namespace
 
+constexpr char kHelp[] =
+    "usage: rosrun granular_ros segment_cloud (a ROS node; online.launch boxes:=segment starts it)\n"
+    "\n"
+    "Boxes for clouds without detections: each cloud on ~input (sensor_msgs/PointCloud2) becomes a\n"
+    "Detection3DArray on ~output, one full-vehicle cuboid labelled \"unknown\" per segment above the\n"
+    "ground, for the online classifier. Parameters: the ground's under ~ground (config/ground.yaml),\n"
+    "the cuboids' under ~cuboids (config/cuboids.yaml), the segmentation's\n"
+    "(config/segmentation.yaml) and its own (docs/segmentation.md); a misspelt one stops it at\n"
+    "start-up, naming the known ones. Needs a ROS master.\n"
+    "\n"
+    "Exit status: 0 shut down, 1 bad parameters at start-up.\n";
+
 int main(int argc, char** argv) {
+  if (granular_ros::answerNodeHelp(argc, argv, kHelp)) {
+    return 0;
+  }
   ros::init(argc, argv, "segment_cloud");
   ros::NodeHandle node;
   ros::NodeHandle private_node("~");

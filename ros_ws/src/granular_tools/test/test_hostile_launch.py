@@ -67,6 +67,34 @@ def test_ros_args_says_which_listed_required_arguments_are_not(launch):
             assert doc.startswith(("optional", "derived from")), line
 
 
+# --- the nodes, run by hand -------------------------------------------------------------------
+
+NODES = [tool("granular_ros", name) for name in
+         ("online_classifier", "segment_cloud", "fit_cuboid_server")] + \
+        [tool("granular_tools", name) for name in
+         ("bag_to_files_node", "frames_player", "detection_markers", "sensor_frame")]
+
+
+@pytest.mark.parametrize("node", NODES, ids=lambda command: command[-1].rsplit("/", 1)[-1])
+def test_a_node_answers_help_without_a_master(node):
+    env = own_master_environment()  # no master runs there: --help must not wait for one
+    result = run(node + ["--help"], env=env, timeout=30)
+    assert result.status == 0, result
+    assert "arameter" in result.stdout, result  # what it reads, not an empty line
+    hostile.assert_no_crash(result)
+
+
+@pytest.mark.parametrize("node", [tool("granular_tools", "bag_to_files_node"),
+                                  tool("granular_tools", "sensor_frame")],
+                         ids=["bag_to_files_node", "sensor_frame"])
+def test_a_python_node_without_a_master_says_so(node, tmp_path):
+    # rospy alone retried for ever, deaf to Ctrl-C, or with a private parameter ended in a
+    # ConnectionRefusedError traceback.
+    result = run(node + [f"_out:={tmp_path / 'out'}"], env=own_master_environment(), timeout=30)
+    assert_fails_clearly(result, 1, "no ROS master at http://localhost:")
+    assert not (tmp_path / "out").exists()
+
+
 # --- pipeline.launch and its runner -------------------------------------------------------
 
 def test_the_launch_entry_point_returns_the_failing_stages_status_and_marks_the_run(

@@ -7,6 +7,10 @@
 
 namespace granular_ros {
 
+/// A node run by hand with -h or --help: prints `help` and returns true, before ros::init,
+/// which would wait for a ROS master without end.
+bool answerNodeHelp(int argc, char** argv, const char* help);
+
 /// Every parameter under the namespace of `node` (a node's private handle) as JSON.
 granular::config::Json parametersOf(const ros::NodeHandle& node);
 

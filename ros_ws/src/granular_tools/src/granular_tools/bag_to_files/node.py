@@ -7,6 +7,7 @@ from lgsvl_msgs.msg import Detection3DArray
 from sensor_msgs.msg import PointCloud2
 
 from .config import BagToFilesConfig
+from ..nodes import init_node
 from ..output import OutputError, claimed_folder
 from .detections import DetectionCleaner
 from .frames import PairWriter, prepare_output
@@ -99,8 +100,9 @@ class BagToFilesNode:
         return self.pairing.stats.summary(self.config.slop)
 
 
-def main():
-    rospy.init_node("bag_to_files")
+def main(description):
+    """The node; `description` is its script's help."""
+    init_node("bag_to_files", description)
     try:
         out, config = rospy.get_param("~out"), read_config()
         overwrite = bool(rospy.get_param("~overwrite", False))

@@ -91,6 +91,25 @@ class FitnessProfileTest : public TemporaryFolderTest {
     return write(name, document.dump());
   }
 
+  // results() of `objects` by ICP, with one fitness (0.01 m^2) for every object and model.
+  fs::path alikeResults(const std::string& name, const std::vector<Object>& objects) const {
+    nlohmann::json document = nlohmann::json::parse(read(results(name, "icp", objects, 1.0)));
+    for (nlohmann::json& object : document["objects"]) {
+      object["per_model"]["Hatchback"]["fitness"] = 0.01;
+      object["per_model"]["Sedan"]["fitness"] = 0.01;
+    }
+    return write(name, document.dump());
+  }
+
+  // Objects `run` classified right.
+  static std::size_t right(const SupervisedRun& run) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < run.files.size(); ++i) {
+      count += run.predicted[i] == run.true_labels[i];
+    }
+    return count;
+  }
+
   std::vector<Object> train_, test_;
   std::function<float(const Object&, const std::string&)> share_ =
       [](const Object&, const std::string&) { return 0.5f; };
@@ -227,23 +246,8 @@ TEST_F(FitnessProfileTest, PointHistogramsTellApartWhatTheFitnessCannot) {
       writePcdBinary(root_ / folder / object.file, shapeOf(objectClass(object.file), random));
     }
   }
-  const auto alike = [&](const std::string& name, const std::vector<Object>& objects) {
-    nlohmann::json document = nlohmann::json::parse(read(results(name, "icp", objects, 1.0)));
-    for (nlohmann::json& object : document["objects"]) {
-      object["per_model"]["Hatchback"]["fitness"] = 0.01;
-      object["per_model"]["Sedan"]["fitness"] = 0.01;
-    }
-    return write(name, document.dump());
-  };
-  const fs::path train = alike("train_icp.json", train_);
-  const fs::path test = alike("test_icp.json", test_);
-  const auto right = [](const SupervisedRun& run) {
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < run.files.size(); ++i) {
-      count += run.predicted[i] == run.true_labels[i];
-    }
-    return count;
-  };
+  const fs::path train = alikeResults("train_icp.json", train_);
+  const fs::path test = alikeResults("test_icp.json", test_);
 
   SupervisedConfig config;
   config.svm.refinements = 0;
@@ -282,23 +286,8 @@ TEST_F(FitnessProfileTest, InlierSharesTellApartWhatTheFitnessCannot) {
       object.points = 300;
     }
   }
-  const auto alike = [&](const std::string& name, const std::vector<Object>& objects) {
-    nlohmann::json document = nlohmann::json::parse(read(results(name, "icp", objects, 1.0)));
-    for (nlohmann::json& object : document["objects"]) {
-      object["per_model"]["Hatchback"]["fitness"] = 0.01;
-      object["per_model"]["Sedan"]["fitness"] = 0.01;
-    }
-    return write(name, document.dump());
-  };
-  const fs::path train = alike("train_icp.json", train_);
-  const fs::path test = alike("test_icp.json", test_);
-  const auto right = [](const SupervisedRun& run) {
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < run.files.size(); ++i) {
-      count += run.predicted[i] == run.true_labels[i];
-    }
-    return count;
-  };
+  const fs::path train = alikeResults("train_icp.json", train_);
+  const fs::path test = alikeResults("test_icp.json", test_);
   SupervisedConfig config;
   config.svm.refinements = 0;
   config.svm_fitness.histogram_weight = 0.0;

@@ -47,8 +47,9 @@ struct FitnessScratch {
   std::vector<std::size_t> order;
 };
 
-// Scores the fitness of the pairs in `result` that registered (`registered`), each against its
-// model's tree; with `early_rejection`, as RegisterOptions::early_rejection says.
+// Scores the fitness, and the inlier shares from the same distances, of the pairs in `result`
+// that registered (`registered`), each against its model's tree; with `early_rejection`, as
+// RegisterOptions::early_rejection says.
 void scoreFitness(const ModelCloud& source, const std::vector<NearestTree::Ptr>& trees,
                   const std::vector<bool>& registered, bool early_rejection,
                   std::vector<PairResult>& result, FitnessScratch& scratch) {

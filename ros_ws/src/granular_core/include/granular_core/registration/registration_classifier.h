@@ -23,7 +23,8 @@ struct RegisterOptions {
   /// those its criterion compares (the converged ones for a converged model, all for another)
   /// is marked `rejected`, without a fitness. Every prediction of the three criteria, and
   /// the best and second best fitness of criteria 2 and 3, are those of the full scoring;
-  /// the rejected models' fitness is missing, which svm_fitness's features need.
+  /// the rejected models' fitness and inlier shares are missing, which svm_fitness's features
+  /// need.
   bool early_rejection = false;
 };
 

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <sstream>
 
 namespace granular_ros {
@@ -88,14 +87,9 @@ OptionTable& OptionTable::custom(const std::string& name, Handler handler) {
 }
 
 void OptionTable::parse(int argc, char** argv) const {
-  // --help anywhere asks for the help, whatever else the line holds (as argparse's tools do).
-  if (help_ != nullptr) {
-    for (int i = 1; i < argc; ++i) {
-      if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-        *help_ = true;
-        return;
-      }
-    }
+  if (help_ != nullptr && asksForHelp(argc, argv)) {
+    *help_ = true;
+    return;
   }
   OptionReader reader(argc, argv);
   while (reader.next()) {

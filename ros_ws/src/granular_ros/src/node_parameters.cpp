@@ -1,10 +1,11 @@
 #include "granular_ros/node_parameters.h"
 
-#include <cstring>
 #include <iostream>
 #include <stdexcept>
 
 #include <xmlrpcpp/XmlRpcValue.h>
+
+#include "granular_ros/command_line.h"
 
 namespace granular_ros {
 namespace {
@@ -41,13 +42,11 @@ granular::config::Json toJson(XmlRpc::XmlRpcValue& value) {
 }  // namespace
 
 bool answerNodeHelp(int argc, char** argv, const char* help) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::cout << help;
-      return true;
-    }
+  if (!asksForHelp(argc, argv)) {
+    return false;
   }
-  return false;
+  std::cout << help;
+  return true;
 }
 
 granular::config::Json parametersOf(const ros::NodeHandle& node) {

@@ -8,10 +8,23 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace granular_ros {
+
+/// Whether -h or --help is anywhere among the arguments (after the program's name): the help
+/// is then what the user asked for, whatever else the line holds, as argparse's tools do.
+inline bool asksForHelp(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view argument(argv[i]);
+    if (argument == "--help" || argument == "-h") {
+      return true;
+    }
+  }
+  return false;
+}
 
 /// Walks a tool's arguments, `--name VALUE`, `--name=VALUE` and `--flag`, one option at a time.
 /// Every problem is a std::invalid_argument that names the option.

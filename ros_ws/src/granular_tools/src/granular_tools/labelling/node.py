@@ -8,7 +8,6 @@ import sys
 import threading
 import time
 
-import rosgraph
 import rospy
 from geometry_msgs.msg import PointStamped, Vector3
 from granular_ros.srv import FitCuboid
@@ -23,6 +22,7 @@ from ..bag_to_files.pcd import CloudError, pcd_to_cloud
 from ..bags import BagError
 from ..config_loading import ConfigError
 from ..evaluation.geometry import Cuboid
+from ..nodes import missing_master
 from ..output import OutputError, run_main
 from ..stages import resolve
 from .config import load_config
@@ -435,10 +435,9 @@ def _prepare_frames(args):
 
 def serve(session, config, args, start):
     """The node's life, with the session open: until a stop signal, then every change saved."""
-    # rospy.init_node would wait for a master without end, deaf to the stop signals.
-    if not rosgraph.is_master_online():
-        raise OutputError(f"no ROS master at {rosgraph.get_master_uri()}: start roscore, or "
-                          "use launch/label_cuboids.launch, which starts one")
+    problem = missing_master("use launch/label_cuboids.launch, which starts one")
+    if problem:
+        raise OutputError(problem)
     stop = threading.Event()
     # A session ends by saving, not by unwinding mid-write: the handlers only ask for a stop.
     for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):

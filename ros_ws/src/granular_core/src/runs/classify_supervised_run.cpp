@@ -251,7 +251,7 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
     for (const std::string& model : file.models) {
       const std::string name = file.method + "/" + file.preset + ":" + model;
       features.origin.names.push_back(name);
-      for (std::size_t r = 0; r < kInlierRadii.size(); ++r) {
+      for (std::size_t r = 0; inlier_shares && r < kInlierRadii.size(); ++r) {
         share_names.push_back(name + ":within_" + inlierRadiusName(r) + "m");
       }
     }
@@ -278,10 +278,8 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
     }
   }
   features.origin.names.push_back("log_points");
-  if (inlier_shares) {
-    features.origin.names.insert(features.origin.names.end(), share_names.begin(),
-                                 share_names.end());
-  }
+  features.origin.names.insert(features.origin.names.end(), share_names.begin(),
+                               share_names.end());
   features.origin.source = sources.dump();
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     features.folder.features.push_back(

@@ -92,8 +92,8 @@ std::string indexRow(const std::string& file, const ExtractedObject& object,
 // A segment on a true box keeps that box's id (the instance it shows, as index.csv's
 // detection_id); a background one is numbered by its place among the frame's segments. A true
 // box that cannot be judged on (plausibleDetectionBox refuses it, as extractObjects does) may
-// hold any segment, so the frame then gives no Background objects. Returns what was wrong with such boxes when
-// `segment_objects` hides them from extractObjects.
+// hold any segment, so the frame then gives no Background objects. Returns what was wrong with
+// such boxes when `segment_objects` hides them from extractObjects.
 std::vector<std::string> harvestSegments(const Cloud& cloud, const std::vector<Segment>& segments,
                                          const BackgroundConfig& config, bool segment_objects,
                                          double max_box_size, std::vector<Detection>& detections) {

@@ -27,6 +27,7 @@ TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   presets["report"].icp.max_iterations = 99;
   presets["tuned"].ndt.resolution = 9.0;
   presets["tuned"].source_min_z.reset();
+  presets["report"].source_max_points = 7;
   ASSERT_NO_THROW(loadRegistrationPresets(fs::path(GRANULAR_CONFIG_DIR) / "classification.yaml",
                                           presets));
   const Presets built_in = granular::registrationPresets();
@@ -46,6 +47,7 @@ TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   EXPECT_EQ(report.ndt.max_iterations, 35);
   EXPECT_EQ(report.ndt.resolution, 0.1);
   EXPECT_FALSE(report.source_min_z);
+  EXPECT_EQ(report.source_max_points, 0u);  // every point
 }
 
 class BadClassificationConfigTest : public TemporaryYamlTest {
@@ -64,6 +66,9 @@ TEST_F(BadClassificationConfigTest, ErrorsNameTheFileAndTheKey) {
             std::string::npos);
   EXPECT_NE(errorOf("presets:\n  tuned:\n    icp: {max_iterations: many}\n")
                 .find("presets.tuned.icp.max_iterations: expected an integer, got 'many'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("presets:\n  tuned:\n    source_max_points: -100\n")
+                .find("presets.tuned.source_max_points"),
             std::string::npos);
   EXPECT_NE(errorOf("preset: {}\n").find("preset: unknown key (known: presets)"),
             std::string::npos);

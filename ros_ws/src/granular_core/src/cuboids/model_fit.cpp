@@ -160,7 +160,7 @@ std::optional<FittedCuboid> ModelCuboidFitter::fit(const ObjectView& object) con
           hypothesis.source->push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
         }
         hypothesis.fitness = model.tree->fitness(
-            *registrationSource(*hypothesis.source, config.model.registration.source_min_z),
+            *registrationSource(*hypothesis.source, config.model.registration),
             Eigen::Matrix4f::Identity());
         hypotheses.push_back(std::move(hypothesis));
       }

@@ -78,7 +78,7 @@ std::vector<std::vector<PairResult>> registerObjectsReference(
   }
   std::vector<std::vector<PairResult>> results(objects.size());
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    const ModelCloud::ConstPtr source = registrationSource(objects[i], config.source_min_z);
+    const ModelCloud::ConstPtr source = registrationSource(objects[i], config);
     results[i].resize(clouds.size());
     if (source->size() >= minimumSourcePoints(method)) {
       for (std::size_t m = 0; m < clouds.size(); ++m) {

@@ -61,24 +61,37 @@ nlohmann::json registrationParameters(RegistrationMethod method,
           .dump());
   json["source_min_z"] =
       config.source_min_z ? nlohmann::json(*config.source_min_z) : nlohmann::json(nullptr);
+  json["source_max_points"] = config.source_max_points;
   json["min_source_points"] = minimumSourcePoints(method);
   return json;
 }
 
 ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
-                                        const std::optional<double>& min_z) {
+                                        const RegistrationClassifierConfig& config) {
   ModelCloud::Ptr source(new ModelCloud);
-  if (!min_z) {
+  if (!config.source_min_z) {
     *source = object;
-    return source;
-  }
-  source->reserve(object.size());
-  for (const pcl::PointXYZ& point : object.points) {
-    if (point.z >= *min_z) {
-      source->push_back(point);
+  } else {
+    source->reserve(object.size());
+    for (const pcl::PointXYZ& point : object.points) {
+      if (point.z >= *config.source_min_z) {
+        source->push_back(point);
+      }
     }
   }
-  return source;
+  const std::size_t count = source->size();
+  const std::size_t kept = config.source_max_points;
+  if (kept == 0 || count <= kept) {
+    return source;
+  }
+  // Point i of the kept ones is point floor(i * count / kept) of the source: evenly spread
+  // over a scan's order, which sweeps the object's surface ring by ring.
+  ModelCloud::Ptr spread(new ModelCloud);
+  spread->reserve(kept);
+  for (std::size_t i = 0; i < kept; ++i) {
+    spread->push_back((*source)[i * count / kept]);
+  }
+  return spread;
 }
 
 PairResult failedPair() {

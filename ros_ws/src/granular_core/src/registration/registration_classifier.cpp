@@ -235,7 +235,7 @@ std::vector<std::vector<PairResult>> RegistrationClassifier::registerObjects(
           state.aligner = impl.registration->aligner();
         }
         const ModelCloud::ConstPtr source =
-            registrationSource(objects[i], impl.config.source_min_z);
+            registrationSource(objects[i], impl.config);
         std::vector<PairResult>& result = results[i];
         result.assign(models, PairResult());
         if (source->size() < minimumSourcePoints(impl.method)) {

@@ -270,5 +270,53 @@ TEST_F(RegistrationTest, SourceMinZDropsGroundReturns) {
   EXPECT_LT(dropped.fitness, 1e-3);
 }
 
+TEST(RegistrationSource, SourceMaxPointsKeepsAnEvenSpreadAfterTheGroundCut) {
+  ModelCloud object;
+  for (int i = 0; i < 1000; ++i) {
+    object.push_back(pcl::PointXYZ(static_cast<float>(i), 0.0f, 1.0f));
+  }
+  for (int i = 0; i < 50; ++i) {  // road returns, dropped before the spread is taken
+    object.push_back(pcl::PointXYZ(-1.0f, 0.0f, 0.05f));
+  }
+  RegistrationClassifierConfig config;
+  config.source_min_z = 0.2;
+  config.source_max_points = 100;
+  const ModelCloud::ConstPtr kept = registrationSource(object, config);
+  ASSERT_EQ(kept->size(), 100u);
+  for (std::size_t i = 0; i < kept->size(); ++i) {
+    EXPECT_EQ((*kept)[i].x, 10.0f * static_cast<float>(i));  // every tenth of the 1,000
+  }
+  config.source_max_points = 1000;  // no more than there are: all of them
+  EXPECT_EQ(registrationSource(object, config)->size(), 1000u);
+  config.source_max_points = 0;  // no cap
+  EXPECT_EQ(registrationSource(object, config)->size(), 1000u);
+}
+
+TEST_F(RegistrationTest, SourceMaxPointsRegistersTheSpreadAlone) {
+  // A capped classifier gives each object exactly what an uncapped one gives its spread.
+  RegistrationClassifierConfig capped = converging();
+  capped.source_max_points = 40;
+  std::vector<ModelCloud> spreads;
+  for (const ModelCloud& object : objects_) {
+    ASSERT_GT(object.size(), 40u);
+    spreads.push_back(*registrationSource(object, capped));
+  }
+  for (const RegistrationMethod method :
+       {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl, RegistrationMethod::kNdt}) {
+    const auto with_cap = RegistrationClassifier(method, capped, models_).registerObjects(objects_);
+    const auto on_spreads =
+        RegistrationClassifier(method, converging(), models_).registerObjects(spreads);
+    for (std::size_t i = 0; i < objects_.size(); ++i) {
+      EXPECT_EQ(predict(with_cap[i]).criterion3, truth_[i])
+          << registrationMethodName(method) << " object " << i;
+      for (std::size_t m = 0; m < models_.size(); ++m) {
+        EXPECT_EQ(with_cap[i][m].fitness, on_spreads[i][m].fitness)
+            << registrationMethodName(method) << " object " << i << " model " << m;
+        EXPECT_EQ(with_cap[i][m].transform, on_spreads[i][m].transform);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace granular

@@ -52,10 +52,11 @@ std::size_t minimumSourcePoints(RegistrationMethod method);
 nlohmann::json registrationParameters(RegistrationMethod method,
                                       const RegistrationClassifierConfig& config);
 
-/// The object as registered: its points at or above `min_z` when set (see
-/// RegistrationClassifierConfig::source_min_z), all of them otherwise.
+/// The object as registered under `config`: its points at or above source_min_z when set (all
+/// of them otherwise), then at most source_max_points of those, evenly spread over their order
+/// when there are more.
 ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
-                                        const std::optional<double>& min_z);
+                                        const RegistrationClassifierConfig& config);
 
 /// The registration of one object against one class model.
 struct PairResult {

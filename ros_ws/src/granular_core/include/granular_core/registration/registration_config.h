@@ -107,6 +107,11 @@ struct RegistrationClassifierConfig {
   /// near z = 0 of the object frame, which the models, cut at 0.2 m, do not have). Unset keeps
   /// every point, as the report did.
   std::optional<double> source_min_z;
+  /// Points an object keeps for registration at most, evenly spread over its points' order
+  /// (after source_min_z); 0 keeps every point, as the report did. A registration's cost grows
+  /// with the object's points, and a near vehicle's thousands say no more about its shape than
+  /// a hundred of them do (docs/classification.md measures it).
+  std::size_t source_max_points = 0;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -114,6 +119,7 @@ struct RegistrationClassifierConfig {
     visit("icp_nl", self.icp_nl);
     visit("ndt", self.ndt);
     visit("source_min_z", self.source_min_z, config::any("m"));
+    visit("source_max_points", self.source_max_points, config::any("points"));
   }
 };
 

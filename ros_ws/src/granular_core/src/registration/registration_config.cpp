@@ -18,6 +18,7 @@ std::map<std::string, RegistrationClassifierConfig> registrationPresets() {
   tuned.ndt.resolution = 0.3;
   tuned.ndt.min_points_per_voxel = 3;
   tuned.source_min_z = 0.2;
+  tuned.source_max_points = 100;
   return {{"report", RegistrationClassifierConfig()}, {"tuned", tuned}};
 }
 

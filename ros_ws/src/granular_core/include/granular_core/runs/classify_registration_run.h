@@ -18,7 +18,7 @@ struct ObjectRecord {
   std::string file;        ///< file name in the objects folder
   std::string true_label;  ///< the name's prefix before the first '-'; empty if none
   std::size_t points = 0;       ///< finite points in the file
-  std::size_t points_used = 0;  ///< of which registered (see source_min_z)
+  std::size_t points_used = 0;  ///< of which registered (source_min_z, source_max_points)
   std::vector<PairResult> per_model;  ///< in the order of ClassificationRun::models
   Predictions predictions;
 };

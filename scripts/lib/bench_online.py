@@ -54,6 +54,9 @@ def main():
                         help="online.launch's track_vote (default %(default)s)")
     parser.add_argument("--threads", type=int, default=None,
                         help="online.launch's threads:= (default: config/online.yaml's)")
+    parser.add_argument("--preset", default=None,
+                        help="online.launch's preset:= for the registration methods (default: "
+                             "the launch file's, tuned)")
     parser.add_argument("--objects", type=int, default=0,
                         help="repeat each frame's boxes until it holds at least N (a crowded "
                              "frame; the same clouds, so each copy costs what its box does)")
@@ -85,7 +88,8 @@ def main():
                         f"class_models:={class_models}", "rviz:=false",
                         f"rate:={args.rate}", f"track_vote:={args.track_vote}",
                         "exit_when_done:=true"]
-                       + ([f"threads:={args.threads}"] if args.threads is not None else []),
+                       + ([f"threads:={args.threads}"] if args.threads is not None else [])
+                       + ([f"preset:={args.preset}"] if args.preset is not None else []),
                        check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(1.0)
         monitor.close()

@@ -48,6 +48,10 @@ TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   EXPECT_EQ(report.ndt.resolution, 0.1);
   EXPECT_FALSE(report.source_min_z);
   EXPECT_EQ(report.source_max_points, 0u);  // every point
+  // fast is tuned on at most 50 points an object.
+  granular::RegistrationClassifierConfig fast = presets.at("tuned");
+  fast.source_max_points = 50;
+  EXPECT_TRUE(presets.at("fast") == fast);
 }
 
 class BadClassificationConfigTest : public TemporaryYamlTest {

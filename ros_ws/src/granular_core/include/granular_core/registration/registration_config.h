@@ -127,7 +127,8 @@ struct RegistrationClassifierConfig {
 ///  - "report": the report's values (8.1.1 for ICP and ICP-NL, 8.3 for NDT);
 ///  - "tuned": the values that classified a simulated training drive best (models from one
 ///    60 s drive, seed 11, objects from another, seed 12); config/classification.yaml and
-///    docs/classification.md say what was tuned and how.
+///    docs/classification.md say what was tuned and how;
+///  - "fast": "tuned" on at most 50 points an object, for the online node's crowded frames.
 std::map<std::string, RegistrationClassifierConfig> registrationPresets();
 
 /// config/classification.yaml: the presets by name, the built-in ones to begin with; a preset

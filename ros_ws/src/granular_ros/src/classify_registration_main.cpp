@@ -44,8 +44,13 @@ std::string usage() {
        << " m;\n"
           "                    NDT resolution "
        << report.ndt.resolution << " m, " << report.ndt.max_iterations
-       << " iterations) or tuned (chosen on a\n"
-          "                    training drive); default "
+       << " iterations), tuned (chosen on a\n"
+          "                    training drive; at most "
+       << granular::registrationPresets().at("tuned").source_max_points
+       << " points an object) or fast\n"
+          "                    (tuned on at most "
+       << granular::registrationPresets().at("fast").source_max_points
+       << " points); default "
        << granular_ros::kDefaultPreset << "\n"
           "  --config FILE     YAML file with presets (the repository's\n"
           "                    config/classification.yaml documents every parameter)\n"

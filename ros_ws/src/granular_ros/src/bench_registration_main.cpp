@@ -184,7 +184,7 @@ granular::ClassificationRun plainWholeRun(const std::filesystem::path& models_fo
     record.file = file.filename().string();
     record.true_label = granular::objectClass(file);
     record.points = objects.back().size();
-    record.points_used = granular::registrationSource(objects.back(), config)->size();
+    record.points_used = granular::registrationSourceSize(objects.back(), config);
     run.objects.push_back(record);
   }
   const auto results = granular::registerObjectsReference(method, config, models, objects);

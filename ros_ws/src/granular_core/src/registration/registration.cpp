@@ -1,5 +1,6 @@
 #include "granular_core/registration/registration.h"
 
+#include <algorithm>
 #include <string>
 
 namespace granular {
@@ -10,6 +11,16 @@ constexpr RegistrationState kStates[] = {
     RegistrationState::kRelMse,     RegistrationState::kIterations,
     RegistrationState::kNoCorrespondences, RegistrationState::kFailed,
     RegistrationState::kTooFewPoints};
+
+// Whether `point` is at or above source_min_z, when set.
+bool aboveMinZ(const pcl::PointXYZ& point, const RegistrationClassifierConfig& config) {
+  return !config.source_min_z || point.z >= *config.source_min_z;
+}
+
+// How many of `count` points source_max_points keeps.
+std::size_t keptCount(std::size_t count, const RegistrationClassifierConfig& config) {
+  return config.source_max_points == 0 ? count : std::min(count, config.source_max_points);
+}
 
 }  // namespace
 
@@ -74,14 +85,14 @@ ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
   } else {
     source->reserve(object.size());
     for (const pcl::PointXYZ& point : object.points) {
-      if (point.z >= *config.source_min_z) {
+      if (aboveMinZ(point, config)) {
         source->push_back(point);
       }
     }
   }
   const std::size_t count = source->size();
-  const std::size_t kept = config.source_max_points;
-  if (kept == 0 || count <= kept) {
+  const std::size_t kept = keptCount(count, config);
+  if (kept == count) {
     return source;
   }
   // Point i of the kept ones is point floor(i * count / kept) of the source: evenly spread
@@ -92,6 +103,14 @@ ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
     spread->push_back((*source)[i * count / kept]);
   }
   return spread;
+}
+
+std::size_t registrationSourceSize(const ModelCloud& object,
+                                   const RegistrationClassifierConfig& config) {
+  const auto above = std::count_if(object.begin(), object.end(), [&](const pcl::PointXYZ& point) {
+    return aboveMinZ(point, config);
+  });
+  return keptCount(static_cast<std::size_t>(above), config);
 }
 
 PairResult failedPair() {

@@ -169,7 +169,7 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
     record.file = files[i].filename().string();
     record.true_label = objectClass(files[i]);
     record.points = clouds[i].size();
-    record.points_used = registrationSource(clouds[i], config)->size();
+    record.points_used = registrationSourceSize(clouds[i], config);
     points += clouds[i].size();
     below += pointsBelow(clouds[i], kBoxCentredDepth);
   }

@@ -283,13 +283,19 @@ TEST(RegistrationSource, SourceMaxPointsKeepsAnEvenSpreadAfterTheGroundCut) {
   config.source_max_points = 100;
   const ModelCloud::ConstPtr kept = registrationSource(object, config);
   ASSERT_EQ(kept->size(), 100u);
+  EXPECT_EQ(registrationSourceSize(object, config), 100u);
   for (std::size_t i = 0; i < kept->size(); ++i) {
     EXPECT_EQ((*kept)[i].x, 10.0f * static_cast<float>(i));  // every tenth of the 1,000
   }
   config.source_max_points = 1000;  // no more than there are: all of them
   EXPECT_EQ(registrationSource(object, config)->size(), 1000u);
+  EXPECT_EQ(registrationSourceSize(object, config), 1000u);
   config.source_max_points = 0;  // no cap
   EXPECT_EQ(registrationSource(object, config)->size(), 1000u);
+  EXPECT_EQ(registrationSourceSize(object, config), 1000u);
+  config.source_min_z.reset();  // the road returns too
+  EXPECT_EQ(registrationSource(object, config)->size(), 1050u);
+  EXPECT_EQ(registrationSourceSize(object, config), 1050u);
 }
 
 TEST_F(RegistrationTest, SourceMaxPointsRegistersTheSpreadAlone) {

@@ -57,6 +57,9 @@ nlohmann::json registrationParameters(RegistrationMethod method,
 /// when there are more.
 ModelCloud::ConstPtr registrationSource(const ModelCloud& object,
                                         const RegistrationClassifierConfig& config);
+/// registrationSource(object, config)->size(), counted without the copy.
+std::size_t registrationSourceSize(const ModelCloud& object,
+                                   const RegistrationClassifierConfig& config);
 
 /// The registration of one object against one class model.
 struct PairResult {

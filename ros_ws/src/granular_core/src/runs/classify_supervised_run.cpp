@@ -252,7 +252,7 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
       const std::string name = file.method + "/" + file.preset + ":" + model;
       features.origin.names.push_back(name);
       for (std::size_t r = 0; inlier_shares && r < kInlierRadii.size(); ++r) {
-        share_names.push_back(name + ":within_" + inlierRadiusName(r) + "m");
+        share_names.push_back(inlierShareFeatureName(name, r));
       }
     }
     if (f == 0) {

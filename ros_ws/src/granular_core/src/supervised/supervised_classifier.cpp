@@ -18,6 +18,7 @@
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/parallel.h"
+#include "granular_core/registration/inlier_shares.h"
 #include "granular_core/supervised/knn_predictor.h"
 #include "granular_core/supervised/rbf_svm.h"
 
@@ -220,11 +221,9 @@ bool endsWithPointHistograms(SupervisedMethod method, const FeatureOrigin& origi
 }
 
 // Whether svm_fitness's features hold its registrations' inlier shares (readRegistrationFeatures
-// names them "<method>/<preset>:<Model>:within_<radius>m").
+// names them with inlierShareFeatureName).
 bool namesInlierShares(const FeatureOrigin& origin) {
-  return std::any_of(origin.names.begin(), origin.names.end(), [](const std::string& name) {
-    return name.find(":within_") != std::string::npos;
-  });
+  return std::any_of(origin.names.begin(), origin.names.end(), isInlierShareFeatureName);
 }
 
 }  // namespace

@@ -27,6 +27,17 @@ inline std::string inlierRadiusName(std::size_t r) {
   return name.str();
 }
 
+/// The feature name of the `r`-th inlier share of the pair `pair` names
+/// ("icp/tuned:Sedan:within_0.03m").
+inline std::string inlierShareFeatureName(const std::string& pair, std::size_t r) {
+  return pair + ":within_" + inlierRadiusName(r) + "m";
+}
+
+/// Whether `name` is one inlierShareFeatureName gives.
+inline bool isInlierShareFeatureName(const std::string& name) {
+  return name.find(":within_") != std::string::npos;
+}
+
 /// The inlier shares of the aligned points' squared distances to their nearest model points
 /// (m^2, as the fitness averages them); zeros for none.
 inline InlierShares inlierShares(const std::vector<float>& squared_distances) {

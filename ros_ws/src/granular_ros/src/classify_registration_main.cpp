@@ -17,7 +17,8 @@
 namespace {
 
 std::string usage() {
-  const granular::RegistrationClassifierConfig report;
+  const auto presets = granular::registrationPresets();
+  const granular::RegistrationClassifierConfig& report = presets.at("report");
   std::ostringstream text;
   text << "usage: classify_registration --models FOLDER --objects FOLDER --method METHOD\n"
           "                             --out FILE.json [options]\n"
@@ -46,10 +47,10 @@ std::string usage() {
        << report.ndt.resolution << " m, " << report.ndt.max_iterations
        << " iterations), tuned (chosen on a\n"
           "                    training drive; at most "
-       << granular::registrationPresets().at("tuned").source_max_points
+       << presets.at("tuned").source_max_points
        << " points an object) or fast\n"
           "                    (tuned on at most "
-       << granular::registrationPresets().at("fast").source_max_points
+       << presets.at("fast").source_max_points
        << " points); default "
        << granular_ros::kDefaultPreset << "\n"
           "  --config FILE     YAML file with presets (the repository's\n"

@@ -6,7 +6,7 @@ import pytest
 
 import hostile
 from granular_tools.evaluation.instances import mean_interval
-from granular_tools.evaluation.many import parse_pairs
+from granular_tools.evaluation.many import check_seeds, parse_pairs, train_seeds
 
 EVALUATE_MANY = hostile.tool("granular_tools", "evaluate_many")
 
@@ -29,7 +29,8 @@ def test_pairs_are_train_and_test_seeds():
 def test_two_short_pairs_pool_their_own_reports(tmp_path):
     out = tmp_path / "many"
     arguments = EVALUATE_MANY + ["--out", out, "--pairs", "1:2,3:4", "--duration", "8",
-                                 "--methods", "icp", "--supervised", "knn", "--n-thresh", "10"]
+                                 "--train-drives", "1", "--methods", "icp", "--supervised",
+                                 "knn", "--n-thresh", "10"]
     result = hostile.run(arguments)
     assert result.status == 0, str(result)
     summary = json.loads((out / "summary.json").read_text())
@@ -52,6 +53,14 @@ def test_two_short_pairs_pool_their_own_reports(tmp_path):
     assert again.status == 0, str(again)
     assert again.stdout.count("reusing") == 2
     assert json.loads((out / "summary.json").read_text()) == summary
+
+
+def test_a_pairs_further_train_drives_never_share_a_seed_with_a_test_drive():
+    assert train_seeds((1, 2), 3) == [1, 1001, 2001]
+    check_seeds([(1, 2), (101, 202)], 3)
+    with pytest.raises(ValueError, match="test seed 1001 is also a train drive's"):
+        check_seeds([(1, 2), (5, 1001)], 2)
+    check_seeds([(1, 2), (5, 1001)], 1)
 
 
 def test_bad_pairs_are_refused_before_anything_runs(tmp_path):

@@ -1,7 +1,10 @@
 """evaluate_many: the evaluation over several independent train/test drive pairs, pooled.
 
-OUT/pair-<train seed>-<test seed>/{train,test}.bag   simulate_drive
-OUT/pair-<train seed>-<test seed>/evaluation         run_evaluation (models, results, report)
+OUT/pair-<train seed>-<test seed>/{train,test}.bag   simulate_drive; train-<k>.bag: the pair's
+                                                     k-th train drive (seed: train seed +
+                                                     1000 (k - 1)) with --train-drives
+OUT/pair-<train seed>-<test seed>/evaluation         run_evaluation (models, results, report);
+                                                     evaluation-<K>-drives with K train drives
 OUT/summary.json, OUT/index.md                       per method and N_thresh: the mean over the
                                                      pairs and its 95 % interval, per object and
                                                      per track, all classes and the four cars
@@ -23,6 +26,11 @@ from .instances import (FOUR_CARS, PARTS, accuracy, instance_groups, instances_o
 from .metrics import ResultsError, load_results
 
 DEFAULT_PAIRS = "1:2,101:202,11:22"
+# A pair's further train drives: seeds train + 1000, train + 2000, ...
+TRAIN_SEED_STEP = 1000
+# Three train drives' models see each class from more sides than one drive's: 6.2 to 9.7
+# points more for each registration method on the four cars (docs/classification.md).
+DEFAULT_TRAIN_DRIVES = 3
 
 
 def parse_pairs(text):
@@ -45,23 +53,45 @@ def pair_folder(out, pair):
     return os.path.join(out, f"pair-{pair[0]}-{pair[1]}")
 
 
+def train_seeds(pair, drives):
+    """The seeds of a pair's train drives: its train seed, then + 1000, + 2000, ..."""
+    return [pair[0] + TRAIN_SEED_STEP * k for k in range(drives)]
+
+
+def check_seeds(pairs, drives):
+    """ValueError when a test drive's seed is also a train drive's: it would be learnt from."""
+    trained = {seed for pair in pairs for seed in train_seeds(pair, drives)}
+    for pair in pairs:
+        if pair[1] in trained:
+            raise ValueError(f"--pairs: test seed {pair[1]} is also a train drive's seed "
+                             f"(train drives: each train seed + {TRAIN_SEED_STEP} k, k < "
+                             f"{drives}); choose another")
+
+
+def evaluation_folder(folder, drives):
+    return os.path.join(folder, "evaluation" if drives == 1 else f"evaluation-{drives}-drives")
+
+
 def evaluate_pair(out, pair, duration, args):
     """The pair's bags (simulated when missing) and its evaluation (run when not complete)."""
     folder = pair_folder(out, pair)
     os.makedirs(folder, exist_ok=True)
+    drives = [(f"train{'' if k == 0 else f'-{k + 1}'}.bag", seed)
+              for k, seed in enumerate(train_seeds(pair, args.train_drives))]
     bags = {}
-    for role, seed in zip(("train", "test"), pair):
-        bags[role] = os.path.join(folder, f"{role}.bag")
-        if args.overwrite or not os.path.exists(bags[role]):
-            run_tool(["rosrun", "granular_tools", "simulate_drive", "--out", bags[role],
+    for name, seed in drives + [("test.bag", pair[1])]:
+        bags[name] = os.path.join(folder, name)
+        if args.overwrite or not os.path.exists(bags[name]):
+            run_tool(["rosrun", "granular_tools", "simulate_drive", "--out", bags[name],
                       "--duration", str(duration), "--seed", str(seed), "--quiet"],
                      f"simulate_drive (seed {seed})")
-    evaluation = os.path.join(folder, "evaluation")
+    evaluation = evaluation_folder(folder, args.train_drives)
     if not args.overwrite and os.path.exists(os.path.join(evaluation, "report", "summary.json")):
         print(f"evaluate_many: pair {pair[0]}:{pair[1]}: reusing {evaluation}", flush=True)
         return evaluation
-    command = ["rosrun", "granular_tools", "run_evaluation", "--train-bag", bags["train"],
-               "--test-bag", bags["test"], "--out", evaluation, "--methods", args.methods,
+    train_bags = ",".join(bags[name] for name, _ in drives)
+    command = ["rosrun", "granular_tools", "run_evaluation", "--train-bag", train_bags,
+               "--test-bag", bags["test.bag"], "--out", evaluation, "--methods", args.methods,
                "--supervised", args.supervised, "--fitness-from", args.fitness_from,
                "--presets", args.presets,
                "--n-thresh", args.n_thresh, "--overwrite"]
@@ -116,10 +146,14 @@ def pooled_summary(evaluations, thresholds):
     return summary
 
 
-def index_markdown(summary, pairs, duration):
+def index_markdown(summary, pairs, duration, drives=1):
+    trained = "" if drives == 1 else (
+        f"; each pair's models and supervised classifiers learn from {drives} train drives, "
+        f"seeds the train seed + {TRAIN_SEED_STEP} k")
     lines = ["# Evaluation over drive pairs", "",
              f"{len(pairs)} independent train/test drive pairs of {duration:g} s (seeds "
-             + ", ".join(f"{a}:{b}" for a, b in pairs) + "). Accuracy is the mean over the "
+             + ", ".join(f"{a}:{b}" for a, b in pairs) + f"{trained}). Accuracy is the mean "
+             "over the "
              "pairs (criterion 2 for registration), with a 95 % interval from a bootstrap "
              "over each pair's instances (detection ids); per track, each instance has one "
              "vote. The four cars are " + ", ".join(FOUR_CARS) + ". Each pair's own report: "
@@ -158,6 +192,10 @@ def main(argv=None):
                              "(default: %(default)s)")
     parser.add_argument("--duration", type=float, default=60.0, metavar="SECONDS",
                         help="length of each drive (default: %(default)s)")
+    parser.add_argument("--train-drives", type=int, default=DEFAULT_TRAIN_DRIVES, metavar="K",
+                        help="train drives per pair, seeds the train seed + 1000 k for k < K: "
+                             "the models and supervised classifiers learn from all of them "
+                             "(default: %(default)s)")
     parser.add_argument("--methods", default=",".join(run.REGISTRATION_METHODS),
                         help="registration methods (default: %(default)s)")
     parser.add_argument("--supervised", default=",".join(run.DEFAULT_SUPERVISED),
@@ -182,13 +220,19 @@ def main(argv=None):
             thresholds = [int(t) for t in args.n_thresh.split(",") if t.strip()]
         except ValueError as error:
             raise bad_argument(str(error)) from error
-        if args.duration <= 0 or not thresholds or min(thresholds) < 1:
-            raise bad_argument("--duration and every --n-thresh must be positive")
+        if args.duration <= 0 or not thresholds or min(thresholds) < 1 or args.train_drives < 1:
+            raise bad_argument("--duration, --train-drives and every --n-thresh must be "
+                               "positive")
+        try:
+            check_seeds(pairs, args.train_drives)
+        except ValueError as error:
+            raise bad_argument(str(error)) from error
         out = resolve(args.out)
         args.config_dir = resolve(args.config_dir)
         evaluations = []
         for number, pair in enumerate(pairs, 1):
-            print(f"evaluate_many: pair {number}/{len(pairs)}: train seed {pair[0]}, test seed "
+            seeds = ", ".join(map(str, train_seeds(pair, args.train_drives)))
+            print(f"evaluate_many: pair {number}/{len(pairs)}: train seed(s) {seeds}, test seed "
                   f"{pair[1]} ({time.monotonic() - started:.0f} s)", flush=True)
             evaluations.append(evaluate_pair(out, pair, args.duration, args))
         try:
@@ -196,9 +240,9 @@ def main(argv=None):
         except ResultsError as error:
             raise StageError("pooling", str(error)) from error
         write_atomically(os.path.join(out, "summary.json"), json.dumps(
-            {"pairs": pairs, "duration": args.duration, "methods": summary}, indent=2).encode(),
-            "summary")
-        index = index_markdown(summary, pairs, args.duration)
+            {"pairs": pairs, "duration": args.duration, "train_drives": args.train_drives,
+             "methods": summary}, indent=2).encode(), "summary")
+        index = index_markdown(summary, pairs, args.duration, args.train_drives)
         write_atomically(os.path.join(out, "index.md"), index.encode(), "index")
         print(index)
         print(f"evaluate_many: done in {time.monotonic() - started:.0f} s: "

@@ -1,6 +1,8 @@
-"""run_evaluation: models from a train drive, every method on a test drive's objects, a report.
+"""run_evaluation: models from train drives, every method on a test drive's objects, a report.
 
-OUT/train    run_pipeline on the train bag (frames, objects N10, models + pictures)
+OUT/train    run_pipeline on the train bag (frames, objects N10, models + pictures); with
+             several train bags, each bag's frames and objects in OUT/train/drive-<k>, their
+             objects together in OUT/train/objects and the models built from those
 OUT/test     run_pipeline on the test bag (frames, objects at every N_thresh)
 OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train drive's objects;
              svm_fitness_training/: the registrations svm_fitness learns from
@@ -11,12 +13,15 @@ OUT/report   make_report: summary.json, confusion matrices, plots, index.md; int
 """
 import argparse
 import os
+import shutil
 import time
 
 from .. import pipeline
 from ..bag_to_files.pcd import CloudError
-from ..output import OutputError, claimed_folder, run_main
-from ..stages import StageError, add_runner_options, failure_marker, resolve, run_tool
+from ..output import (OutputError, OutputFolder, check_output_folder, claimed_folder,
+                      run_main)
+from ..stages import (StageError, add_runner_options, bad_argument, failure_marker, resolve,
+                      run_tool)
 from . import report
 from .instances import with_interval
 from .metrics import ResultsError
@@ -126,18 +131,82 @@ def check_methods(methods, supervised, presets, fitness_from=DEFAULT_FITNESS_FRO
                              f"methods and presets, or change --fitness-from", 2)
 
 
-def evaluate(train_bag, test_bag, out, methods, thresholds, presets, config_dir, overwrite,
+def merge_objects(sources, bags, target, threshold, overwrite):
+    """The objects folders `sources` (one per train bag, each with N<threshold>/ and its
+    index.csv) as one: target/N<threshold>/ with every object file and one index.csv. Two
+    drives holding an object file of the same name (the same bag given twice) are refused."""
+    name = f"N{threshold}"
+    with OutputFolder(target, "run_evaluation", overwrite) as folder:
+        merged = os.path.join(folder.staging, name)
+        os.mkdir(merged)
+        from_bag = {}
+        header, rows = None, []
+        for source, bag in zip(sources, bags):
+            objects = os.path.join(source, name)
+            for entry in sorted(os.listdir(objects)):
+                if not entry.endswith(".pcd"):
+                    continue
+                if entry in from_bag:
+                    raise StageError("train objects", f"{entry} is an object of both "
+                                     f"{from_bag[entry]} and {bag}: the same drive given twice?")
+                from_bag[entry] = bag
+                shutil.copyfile(os.path.join(objects, entry), os.path.join(merged, entry))
+            with open(os.path.join(objects, "index.csv"), encoding="utf-8") as stream:
+                lines = stream.read().splitlines(keepends=True)
+            header = header or lines[0]
+            rows += lines[1:]
+        with open(os.path.join(merged, "index.csv"), "w", encoding="utf-8") as stream:
+            stream.write(header + "".join(rows))
+        folder.commit()
+    print(f"run_evaluation: {len(from_bag)} train objects from {len(bags)} drives", flush=True)
+
+
+def train_runs(train_bags, out, config_dir, overwrite):
+    """The train bags' pipeline runs (each checked) and the run whose models and N10 objects
+    the evaluation uses: with one bag, that bag's run into OUT/train, as run_pipeline; with
+    several, one run per bag (frames and objects) into OUT/train/drive-<k>, and a models-only
+    run into OUT/train over their merged objects."""
+    train = os.path.join(out, "train")
+    if len(train_bags) == 1:
+        run = pipeline.PipelineRun(bag=train_bags[0], out=train, thresholds=(10,),
+                                   models_from=10, config_dir=config_dir,
+                                   overwrite=overwrite).checked()
+        return [], run
+    if len(set(map(os.path.realpath, train_bags))) < len(train_bags):
+        raise bad_argument("--train-bag names one bag twice: its objects would count twice")
+    drives = [pipeline.PipelineRun(bag=bag, out=os.path.join(train, f"drive-{k}"),
+                                   stages=("frames", "objects"), thresholds=(10,),
+                                   config_dir=config_dir, overwrite=overwrite).checked()
+              for k, bag in enumerate(train_bags, 1)]
+    models = pipeline.PipelineRun(bag=train_bags[0], out=train, stages=("models",),
+                                  thresholds=(10,), models_from=10, config_dir=config_dir,
+                                  overwrite=overwrite).checked()
+    try:
+        check_output_folder(models.objects_folder, overwrite)
+    except OutputError as error:
+        raise bad_argument(str(error)) from error
+    return drives, models
+
+
+def evaluate(train_bags, test_bag, out, methods, thresholds, presets, config_dir, overwrite,
              supervised=DEFAULT_SUPERVISED, fitness_from=DEFAULT_FITNESS_FROM):
-    """Every stage of the evaluation into `out`; every argument checked before the first."""
+    """Every stage of the evaluation into `out`; every argument checked before the first.
+    `train_bags`: one or more drives the models and the supervised classifiers learn from."""
     check_methods(methods, supervised, presets, fitness_from)
-    train_run = pipeline.PipelineRun(bag=train_bag, out=os.path.join(out, "train"),
-                                     thresholds=(10,), models_from=10, config_dir=config_dir,
-                                     overwrite=overwrite).checked()
+    drive_runs, train_run = train_runs(train_bags, out, config_dir, overwrite)
     test_run = pipeline.PipelineRun(bag=test_bag, out=os.path.join(out, "test"),
                                     stages=("frames", "objects"), thresholds=thresholds,
                                     config_dir=config_dir, overwrite=overwrite).checked()
     with claimed_folder(out, "run_evaluation") as out, failure_marker(out):
-        pipeline.run(train_run)
+        if drive_runs:
+            with claimed_folder(train_run.out, "run_evaluation"):
+                for drive_run in drive_runs:
+                    pipeline.run(drive_run)
+                merge_objects([run.objects_folder for run in drive_runs], train_bags,
+                              train_run.objects_folder, 10, overwrite)
+                pipeline.models_stage(train_run)
+        else:
+            pipeline.run(train_run)
         pipeline.run(test_run)
         results = os.path.join(out, "results")
         models = os.path.join(train_run.out, "models")
@@ -182,10 +251,13 @@ def accuracy_text(entry):
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="run_evaluation",
-        description="Build class models from a train drive, classify a separate test drive's "
+        description="Build class models from train drives, classify a separate test drive's "
                     "objects at every N_thresh with every method, and write the report "
                     "(OUT/report/index.md).")
-    parser.add_argument("--train-bag", required=True)
+    parser.add_argument("--train-bag", required=True, metavar="BAG[,BAG...]",
+                        help="the drive the class models and the supervised classifiers learn "
+                             "from; several, comma-separated, learn from all of them (more "
+                             "views of each class)")
     parser.add_argument("--test-bag", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("--methods", default=",".join(REGISTRATION_METHODS),
@@ -211,7 +283,10 @@ def main(argv=None):
 
     def body():
         out = resolve(args.out, args.relative_to)
-        summary = evaluate(resolve(args.train_bag, args.relative_to),
+        train_bags = [resolve(bag, args.relative_to) for bag in args.train_bag.split(",") if bag]
+        if not train_bags:
+            raise bad_argument("--train-bag: no bag given")
+        summary = evaluate(train_bags,
                            resolve(args.test_bag, args.relative_to), out,
                            [m for m in args.methods.split(",") if m],
                            pipeline.thresholds_from(args.n_thresh),

@@ -28,9 +28,10 @@ from .metrics import ResultsError, load_results
 DEFAULT_PAIRS = "1:2,101:202,11:22"
 # A pair's further train drives: seeds train + 1000, train + 2000, ...
 TRAIN_SEED_STEP = 1000
-# Three train drives' models see each class from more sides than one drive's: 6.2 to 9.7
-# points more for each registration method on the four cars (docs/classification.md).
-DEFAULT_TRAIN_DRIVES = 3
+# Five train drives' models see each class from more sides than one drive's: 7.0 to 8.0
+# points more for each registration method on the four cars at N_thresh 100, three drives 5 to
+# 7 (docs/classification.md).
+DEFAULT_TRAIN_DRIVES = 5
 
 
 def parse_pairs(text):

@@ -4,7 +4,7 @@ OUT/train    run_pipeline on the train bag (frames, objects N10, models + pictur
              several train bags, each bag's frames and objects in OUT/train/drive-<k>, their
              objects together in OUT/train/objects and the models built from those
 OUT/test     run_pipeline on the test bag (frames, objects at every N_thresh)
-OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train drive's objects;
+OUT/classifiers  <method>.yml: the supervised classifiers, trained on the train objects;
              svm_fitness_training/: the registrations svm_fitness learns from
 OUT/results  <method>[_<preset>]/N<thresh>.json from the classify tools (no suffix for the
              report's preset)

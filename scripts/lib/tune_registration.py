@@ -12,7 +12,7 @@ CANDIDATES = {
             "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
             "source_min_z": [None, 0.2]},
     # 100 iterations were left out while ICP-NL's step was PCL's (numerical Jacobians, several
-    # times ICP's cost); the analytic step (point_to_point_lm.h) costs less than ICP's SVD.
+    # times ICP's cost); with the analytic step (point_to_point_lm.h) they take about ICP's time.
     "icp_nl": {"max_iterations": [1, 10, 30, 100],
                "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
                "source_min_z": [None, 0.2]},

@@ -58,14 +58,11 @@ def evaluate(method, values, models, objects_root, work, max_points):
 
 
 def main(argv):
+    # scripts/tune_registration has checked the count and the folders.
     max_points = 0
-    if argv[:1] == ["--max-points"] and len(argv) > 1:
-        if not argv[1].isdigit():
-            sys.exit(f"error: --max-points: '{argv[1]}' is not a point count")
+    if argv[:1] == ["--max-points"]:
         max_points, argv = int(argv[1]), argv[2:]
-    if len(argv) < 2:
-        sys.exit("error: MODELS_FOLDER and OBJECTS_ROOT are needed")
-    models, objects_root, methods = argv[0], argv[1], argv[2:]
+    models, objects_root, *methods = argv
     unknown = [method for method in methods if method not in CANDIDATES]
     if unknown:
         sys.exit(f"error: unknown method '{unknown[0]}' ({', '.join(CANDIDATES)})")

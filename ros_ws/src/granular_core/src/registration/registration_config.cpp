@@ -13,8 +13,8 @@ std::map<std::string, RegistrationClassifierConfig> registrationPresets() {
   RegistrationClassifierConfig tuned;
   tuned.icp.max_iterations = 100;
   tuned.icp.max_correspondence_distance = 0.05;
-  tuned.icp_nl.max_iterations = 100;
-  tuned.icp_nl.max_correspondence_distance = 0.05;
+  tuned.icp_nl.max_iterations = 30;
+  tuned.icp_nl.max_correspondence_distance = 0.1;
   tuned.ndt.resolution = 0.3;
   tuned.ndt.min_points_per_voxel = 3;
   tuned.source_min_z = 0.2;

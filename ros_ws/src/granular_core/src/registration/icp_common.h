@@ -50,12 +50,13 @@ inline RegistrationState icpState(Criteria::ConvergenceState state) {
   return RegistrationState::kFailed;
 }
 
-// Aligns `source` with a registration object whose target is set, with PCL's
+// Aligns `source` with a registration object whose target is set, from `guess`, with PCL's
 // getFitnessScore(); `aligned` is scratch.
 template <typename Registration>
-PairResult alignIcp(Registration& icp, const ModelCloud::ConstPtr& source, ModelCloud& aligned) {
+PairResult alignIcp(Registration& icp, const ModelCloud::ConstPtr& source, ModelCloud& aligned,
+                    const Eigen::Matrix4f& guess = Eigen::Matrix4f::Identity()) {
   icp.setInputSource(source);
-  icp.align(aligned);
+  icp.align(aligned, guess);
   PairResult result;
   result.state = icpState(icp.getConvergeCriteria()->getConvergenceState());
   result.iterations = icp.iterations();

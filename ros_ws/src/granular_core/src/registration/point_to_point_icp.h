@@ -93,19 +93,44 @@ class PointToPointAligner : public ModelAligner {
 
   PairResult align(const ModelCloud::ConstPtr& source, std::size_t model) override {
     const ModelCloud& target = *models_.clouds[model];
-    const NearestTree& tree = *models_.trees[model];
-    moved_ = *source;
     int iterations = 0;
-    Eigen::Matrix4f step = Eigen::Matrix4f::Identity();
     Eigen::Matrix4f total = Eigen::Matrix4f::Identity();
+    if (config_.coarse_iterations > 0) {
+      moved_ = *source;
+      runStage(target, *models_.coarse_trees[model], config_.coarse_correspondence_distance,
+               config_.coarse_iterations, total, iterations);
+    }
+    // As PCL's second registration given the coarse transform as its guess: the source moved
+    // by it in one go (an identity guess leaves it as it is), then the same loop.
+    moved_ = *source;
+    if (total != Eigen::Matrix4f::Identity()) {
+      transformInPlace(moved_, total);
+    }
+    PairResult result;
+    result.state = icpState(runStage(target, *models_.trees[model],
+                                     config_.max_correspondence_distance,
+                                     config_.max_iterations, total, iterations));
+    result.iterations = iterations;
+    result.transform = total;
+    return result;
+  }
+
+ private:
+  // PCL's loop on moved_, pairing points up to `max_distance` with `tree` (bounded by it), for
+  // at most `max_iterations` iterations; each step is applied to moved_ and `total`, and
+  // counted in `iterations`. Returns the state that ended it.
+  Criteria::ConvergenceState runStage(const ModelCloud& target, const NearestTree& tree,
+                                      double max_distance, int max_iterations,
+                                      Eigen::Matrix4f& total, int& iterations) {
+    int stage_iterations = 0;
+    Eigen::Matrix4f step = Eigen::Matrix4f::Identity();
     // A fresh criteria object per registration, as a new PCL object has.
-    Criteria criteria(iterations, step, pairs_);
-    criteria.setMaximumIterations(config_.max_iterations);
+    Criteria criteria(stage_iterations, step, pairs_);
+    criteria.setMaximumIterations(max_iterations);
     criteria.setRelativeMSE(config_.euclidean_fitness_epsilon);
     criteria.setTranslationThreshold(config_.transformation_epsilon);
     criteria.setRotationThreshold(1.0 - config_.transformation_epsilon);
-    const double max_squared =
-        config_.max_correspondence_distance * config_.max_correspondence_distance;
+    const double max_squared = max_distance * max_distance;
     do {
       pairs_.clear();
       for (std::size_t i = 0; i < moved_.size(); ++i) {
@@ -129,17 +154,13 @@ class PointToPointAligner : public ModelAligner {
       step_(moved_, target, pairs_, step);
       transformInPlace(moved_, step);
       total = step * total;
-      ++iterations;
+      ++stage_iterations;
       criteria.hasConverged();  // sets the state that ends the loop
     } while (criteria.getConvergenceState() == Criteria::CONVERGENCE_CRITERIA_NOT_CONVERGED);
-    PairResult result;
-    result.state = icpState(criteria.getConvergenceState());
-    result.iterations = iterations;
-    result.transform = total;
-    return result;
+    iterations += stage_iterations;
+    return criteria.getConvergenceState();
   }
 
- private:
   const IcpClassifierConfig config_;
   const PreparedModels& models_;
   Step step_;
@@ -150,8 +171,10 @@ class PointToPointAligner : public ModelAligner {
 template <typename Step>
 class PointToPointMethod : public RegistrationMethodImpl {
  public:
-  // `models`' trees are bounded by config.max_correspondence_distance already
-  // (RegistrationClassifier sets it before their clouds, so that only that grid is built).
+  // `models`' trees are bounded by config.max_correspondence_distance already, and its
+  // coarse_trees by config.coarse_correspondence_distance when there is a coarse stage
+  // (RegistrationClassifier sets the bounds before their clouds, so that only those grids are
+  // built).
   PointToPointMethod(const IcpClassifierConfig& config, const PreparedModels& models)
       : config_(config), models_(models) {}
 

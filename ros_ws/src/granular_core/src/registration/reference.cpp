@@ -20,11 +20,28 @@ using Ndt = pcl::NormalDistributionsTransform<Point, Point>;
 template <typename Registration>
 PairResult icpPair(const IcpClassifierConfig& config, const ModelCloud::ConstPtr& source,
                    const ModelCloud::ConstPtr& model) {
+  ModelCloud aligned;
+  // The coarse stage: a registration of its own, whose transform the second starts from.
+  Eigen::Matrix4f guess = Eigen::Matrix4f::Identity();
+  int coarse_iterations = 0;
+  if (config.coarse_iterations > 0) {
+    IcpClassifierConfig coarse_config = config;
+    coarse_config.max_iterations = config.coarse_iterations;
+    coarse_config.max_correspondence_distance = config.coarse_correspondence_distance;
+    Registration coarse;
+    icp_detail::configure(coarse, coarse_config);
+    coarse.setInputTarget(model);
+    coarse.setInputSource(source);
+    coarse.align(aligned);
+    guess = coarse.getFinalTransformation();
+    coarse_iterations = coarse.iterations();
+  }
   Registration icp;
   icp_detail::configure(icp, config);
   icp.setInputTarget(model);
-  ModelCloud aligned;
-  return icp_detail::alignIcp(icp, source, aligned);
+  PairResult result = icp_detail::alignIcp(icp, source, aligned, guess);
+  result.iterations += coarse_iterations;
+  return result;
 }
 
 PairResult ndtPair(const NdtClassifierConfig& config, const ModelCloud::ConstPtr& source,

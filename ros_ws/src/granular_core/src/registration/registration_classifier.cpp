@@ -4,6 +4,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <mutex>
 #include <stdexcept>
 #include <utility>
@@ -142,13 +143,18 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   // The ICP methods search within their correspondence bound: each tree gets it before its
   // cloud, so that only the grid for it is built. The models are built on every core.
   double bound = std::numeric_limits<double>::infinity();
-  if (method == RegistrationMethod::kIcp) {
-    bound = config.icp.max_correspondence_distance;
-  } else if (method == RegistrationMethod::kIcpNl) {
-    bound = config.icp_nl.max_correspondence_distance;
+  std::optional<double> coarse_bound;
+  if (method != RegistrationMethod::kNdt) {
+    const IcpClassifierConfig& icp =
+        method == RegistrationMethod::kIcp ? config.icp : config.icp_nl;
+    bound = icp.max_correspondence_distance;
+    if (icp.coarse_iterations > 0) {
+      coarse_bound = icp.coarse_correspondence_distance;
+    }
   }
   impl_->models.clouds.resize(models.size());
   impl_->models.trees.resize(models.size());
+  impl_->models.coarse_trees.resize(coarse_bound ? models.size() : 0);
   parallelFor(models.size(), 0, 1, [&](std::size_t m) {
     const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
     NearestTree::Ptr tree(new NearestTree);
@@ -158,6 +164,12 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
     tree->setInputCloud(cloud);
     impl_->models.clouds[m] = cloud;
     impl_->models.trees[m] = tree;
+    if (coarse_bound) {
+      NearestTree::Ptr coarse(new NearestTree);
+      coarse->setCorrespondenceBound(*coarse_bound);
+      coarse->setInputCloud(cloud);
+      impl_->models.coarse_trees[m] = coarse;
+    }
   });
   switch (method) {
     case RegistrationMethod::kIcp:

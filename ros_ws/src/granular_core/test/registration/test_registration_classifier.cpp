@@ -49,6 +49,31 @@ TEST_F(RegistrationTest, IcpRecoversTheOffsetOfAView) {
   EXPECT_LT(result.fitness, 1e-4);
 }
 
+TEST_F(RegistrationTest, ACoarseStageAlignsAViewBeyondThePairingBound) {
+  // A view 8 cm off its model on every axis: with pairs up to 3 cm only points near the
+  // model's edges pair, and ICP stops on them far from the model; three iterations pairing up
+  // to 10 cm first bring the view within reach.
+  const ModelCloud view = shifted(objects_[0], Eigen::Vector3f(0.08f, -0.08f, 0.08f));
+  for (const RegistrationMethod method : {RegistrationMethod::kIcp, RegistrationMethod::kIcpNl}) {
+    RegistrationClassifierConfig config = converging();
+    for (IcpClassifierConfig* icp : {&config.icp, &config.icp_nl}) {
+      icp->max_correspondence_distance = 0.03;
+    }
+    const PairResult tight = RegistrationClassifier(method, config, models_)
+                                 .registerObjects({view})[0][truth_[0]];
+    EXPECT_GT(tight.fitness, 1e-3) << registrationMethodName(method);
+    for (IcpClassifierConfig* icp : {&config.icp, &config.icp_nl}) {
+      icp->coarse_iterations = 3;
+      icp->coarse_correspondence_distance = 0.1;
+    }
+    const PairResult coarse = RegistrationClassifier(method, config, models_)
+                                  .registerObjects({view})[0][truth_[0]];
+    ASSERT_TRUE(coarse.converged()) << registrationStateName(coarse.state);
+    EXPECT_LT(coarse.fitness, 1e-4) << registrationMethodName(method);
+    EXPECT_GT(coarse.iterations, 3);
+  }
+}
+
 TEST_F(RegistrationTest, TheReportsSingleIterationNeverConverges) {
   // PCL's hasConverged() is true here; the convergence state says the limit stopped it.
   const RegistrationClassifier classifier(RegistrationMethod::kIcp,
@@ -84,7 +109,7 @@ TEST_F(RegistrationTest, CachedAndThreadedResultsEqualTheReportsLoop) {
   fine_ndt.ndt.transformation_epsilon = 1e-4;
   for (const RegistrationMethod method : {RegistrationMethod::kIcp, RegistrationMethod::kNdt}) {
     for (const RegistrationClassifierConfig& config :
-         {RegistrationClassifierConfig(), converging(), fine_ndt}) {
+         {RegistrationClassifierConfig(), converging(), withCoarseStage(), fine_ndt}) {
       if (method != RegistrationMethod::kNdt && config == fine_ndt) {
         continue;
       }
@@ -115,7 +140,7 @@ TEST_F(RegistrationTest, IcpNlPredictsAsTheReportsLoopWithAnExactStep) {
   // and their turned copies they converge alike and pick the same classes.
   const std::vector<ModelCloud> objects = withTurnedCopies(objects_);
   for (const RegistrationClassifierConfig& config :
-       {RegistrationClassifierConfig(), converging()}) {
+       {RegistrationClassifierConfig(), converging(), withCoarseStage()}) {
     const RegistrationClassifier classifier(RegistrationMethod::kIcpNl, config, models_);
     const auto fast = classifier.registerObjects(objects, RegisterOptions());
     const auto plain =

@@ -15,6 +15,12 @@ TEST(ClassifierConfigTest, RefusesBadInput) {
   RegistrationClassifierConfig config;
   config.ndt.resolution = 0.0;
   EXPECT_THROW(validate(config), std::invalid_argument);
+  config = RegistrationClassifierConfig();
+  config.icp_nl.coarse_iterations = -1;
+  EXPECT_THROW(validate(config), std::invalid_argument);
+  config = RegistrationClassifierConfig();
+  config.icp.coarse_correspondence_distance = 0.0;
+  EXPECT_THROW(validate(config), std::invalid_argument);
   std::mt19937 random(1);
   const LabelledModel model{"A", boxSurface({1, 1, 1}, 100, random)};
   EXPECT_THROW(RegistrationClassifier(RegistrationMethod::kIcp, {}, {}), std::invalid_argument);

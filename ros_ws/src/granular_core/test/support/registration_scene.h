@@ -53,6 +53,16 @@ class RegistrationTest : public ::testing::Test {
     return config;
   }
 
+  // converging() with pairs up to 5 cm after a coarse stage of 3 iterations up to 10 cm.
+  static RegistrationClassifierConfig withCoarseStage() {
+    RegistrationClassifierConfig config = converging();
+    config.icp.max_correspondence_distance = 0.05;
+    config.icp.coarse_iterations = 3;
+    config.icp.coarse_correspondence_distance = 0.1;
+    config.icp_nl = config.icp;
+    return config;
+  }
+
   std::vector<LabelledModel> models_;
   std::vector<ModelCloud> objects_;
   std::vector<std::size_t> truth_;

@@ -93,10 +93,12 @@ PairResult failedPair();
 
 /// The class models as every method sees them: each cloud, and its NearestTree (built once,
 /// shared read-only by every thread) for the correspondences and the fitness; for ICP and
-/// ICP-NL bounded by their maximum correspondence distance.
+/// ICP-NL bounded by their maximum correspondence distance. With a coarse stage (ICP and ICP-NL's
+/// coarse_iterations), a second tree per model bounded by its coarse_correspondence_distance.
 struct PreparedModels {
   std::vector<ModelCloud::ConstPtr> clouds;
   std::vector<NearestTree::Ptr> trees;
+  std::vector<NearestTree::Ptr> coarse_trees;  ///< empty without a coarse stage
 };
 
 /// One thread's registration objects for every model of a method.

@@ -53,6 +53,15 @@ struct IcpClassifierConfig {
   /// Converged when the mean squared distance of the pairs changes by less than this fraction
   /// from one iteration to the next (PCL's relative MSE criterion).
   double euclidean_fitness_epsilon = 0.001;
+  /// A coarse stage first: up to this many iterations (fewer when its own convergence criteria
+  /// end it) pairing points up to coarse_correspondence_distance; the registration above then
+  /// starts where it left the object, and its state is the result's. 0: no coarse stage, as
+  /// the report ran. A real car is not the simulated class model, so few of its points lie
+  /// within a tight bound of the model before alignment; a few iterations with a wider one
+  /// bring them there (docs/classification.md measures it on KITTI's cars).
+  int coarse_iterations = 0;
+  /// m: the coarse stage's pairing bound.
+  double coarse_correspondence_distance = 0.1;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -60,6 +69,9 @@ struct IcpClassifierConfig {
     visit("max_correspondence_distance", self.max_correspondence_distance, config::positive("m"));
     visit("transformation_epsilon", self.transformation_epsilon, config::nonNegative("m^2"));
     visit("euclidean_fitness_epsilon", self.euclidean_fitness_epsilon, config::nonNegative());
+    visit("coarse_iterations", self.coarse_iterations, config::atLeast(0));
+    visit("coarse_correspondence_distance", self.coarse_correspondence_distance,
+          config::positive("m"));
   }
 };
 

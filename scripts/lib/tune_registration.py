@@ -7,14 +7,18 @@ import sys
 import tempfile
 
 THRESHOLDS = ("N10", "N50", "N100")
+# ICP and ICP-NL's coarse stage pairs points up to its default 0.1 m (registration_config.h)
+# for the iterations given; 0 is none.
 CANDIDATES = {
     "icp": {"max_iterations": [1, 10, 30, 100],
             "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
+            "coarse_iterations": [0, 1, 3, 10],
             "source_min_z": [None, 0.2]},
     # 100 iterations were left out while ICP-NL's step was PCL's (numerical Jacobians, several
     # times ICP's cost); with the analytic step (point_to_point_lm.h) they take about ICP's time.
     "icp_nl": {"max_iterations": [1, 10, 30, 100],
                "max_correspondence_distance": [0.01, 0.03, 0.05, 0.1, 0.2, 0.5],
+               "coarse_iterations": [0, 1, 3, 10],
                "source_min_z": [None, 0.2]},
     "ndt": {"resolution": [0.1, 0.2, 0.3, 0.5, 1.0], "min_points_per_voxel": [3, 6],
             "source_min_z": [None, 0.2]},

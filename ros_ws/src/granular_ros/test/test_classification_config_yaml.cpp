@@ -42,6 +42,8 @@ TEST(ClassificationConfigYamlTest, ShippedConfigStatesTheBuiltInPresets) {
   EXPECT_EQ(report.icp.max_correspondence_distance, 0.01);
   EXPECT_EQ(report.icp.transformation_epsilon, 1e-9);
   EXPECT_EQ(report.icp.euclidean_fitness_epsilon, 0.001);
+  EXPECT_EQ(report.icp.coarse_iterations, 0);  // one stage
+  EXPECT_EQ(report.icp_nl.coarse_iterations, 0);
   EXPECT_EQ(report.ndt.transformation_epsilon, 0.01);
   EXPECT_EQ(report.ndt.step_size, 0.1);
   EXPECT_EQ(report.ndt.max_iterations, 35);

@@ -13,8 +13,11 @@ std::map<std::string, RegistrationClassifierConfig> registrationPresets() {
   RegistrationClassifierConfig tuned;
   tuned.icp.max_iterations = 100;
   tuned.icp.max_correspondence_distance = 0.05;
-  tuned.icp_nl.max_iterations = 30;
-  tuned.icp_nl.max_correspondence_distance = 0.1;
+  // Three iterations pairing up to 0.1 m first: a real car lies farther from the simulated
+  // models than the simulator's own cars do.
+  tuned.icp.coarse_iterations = 3;
+  tuned.icp.coarse_correspondence_distance = 0.1;
+  tuned.icp_nl = tuned.icp;
   tuned.ndt.resolution = 0.3;
   tuned.ndt.min_points_per_voxel = 3;
   tuned.source_min_z = 0.2;

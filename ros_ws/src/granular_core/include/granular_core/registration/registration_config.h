@@ -137,8 +137,9 @@ struct RegistrationClassifierConfig {
 
 /// The built-in presets by name:
 ///  - "report": the report's values (8.1.1 for ICP and ICP-NL, 8.3 for NDT);
-///  - "tuned": the values that classified a simulated training drive best (models from one
-///    60 s drive, seed 11, objects from another, seed 12); config/classification.yaml and
+///  - "tuned": the values that classified simulated training drives best (models from one
+///    60 s drive, seed 11, or five, objects from another, seed 12), with a coarse stage for
+///    ICP and ICP-NL that KITTI's real cars need; config/classification.yaml and
 ///    docs/classification.md say what was tuned and how;
 ///  - "fast": "tuned" on at most 50 points an object, for the online node's crowded frames.
 std::map<std::string, RegistrationClassifierConfig> registrationPresets();

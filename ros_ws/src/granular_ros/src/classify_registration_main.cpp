@@ -45,9 +45,11 @@ std::string usage() {
        << " m;\n"
           "                    NDT resolution "
        << report.ndt.resolution << " m, " << report.ndt.max_iterations
-       << " iterations), tuned (chosen on a\n"
-          "                    training drive; at most "
-       << presets.at("tuned").source_max_points
+       << " iterations), tuned (chosen on\n"
+          "                    training drives; ICP and ICP-NL first pair points up to "
+       << presets.at("tuned").icp.coarse_correspondence_distance << " m\n"
+          "                    for " << presets.at("tuned").icp.coarse_iterations
+       << " iterations; at most " << presets.at("tuned").source_max_points
        << " points an object) or fast\n"
           "                    (tuned on at most "
        << presets.at("fast").source_max_points

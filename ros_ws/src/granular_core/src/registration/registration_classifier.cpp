@@ -4,8 +4,8 @@
 #include <cmath>
 #include <exception>
 #include <limits>
-#include <optional>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -155,20 +155,21 @@ RegistrationClassifier::RegistrationClassifier(RegistrationMethod method,
   impl_->models.clouds.resize(models.size());
   impl_->models.trees.resize(models.size());
   impl_->models.coarse_trees.resize(coarse_bound ? models.size() : 0);
-  parallelFor(models.size(), 0, 1, [&](std::size_t m) {
-    const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
+  // A model's tree, bounded when `bound` is finite.
+  const auto treeOf = [](const ModelCloud::ConstPtr& cloud, double bound) {
     NearestTree::Ptr tree(new NearestTree);
     if (std::isfinite(bound)) {
       tree->setCorrespondenceBound(bound);
     }
     tree->setInputCloud(cloud);
+    return tree;
+  };
+  parallelFor(models.size(), 0, 1, [&](std::size_t m) {
+    const ModelCloud::ConstPtr cloud(new ModelCloud(std::move(models[m].cloud)));
     impl_->models.clouds[m] = cloud;
-    impl_->models.trees[m] = tree;
+    impl_->models.trees[m] = treeOf(cloud, bound);
     if (coarse_bound) {
-      NearestTree::Ptr coarse(new NearestTree);
-      coarse->setCorrespondenceBound(*coarse_bound);
-      coarse->setInputCloud(cloud);
-      impl_->models.coarse_trees[m] = coarse;
+      impl_->models.coarse_trees[m] = treeOf(cloud, *coarse_bound);
     }
   });
   switch (method) {

@@ -1,6 +1,8 @@
 // The feature vectors: mean/std, the paper's point feature histograms.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -123,6 +125,66 @@ TEST(PointHistogramTest, AWallPointFillsTheCylinderSlicesEqually) {
   const std::vector<float> lone = pointHistogramFeatures(toCloud({{0, 0, 2}}), config);
   EXPECT_EQ(lone[slices + 2 * 10 + 9], 1.0f);  // middle slice: fraction 1, last bin
   EXPECT_EQ(lone[slices + 0 * 10 + 0], 1.0f);  // bottom slice: fraction 0, first bin
+}
+
+TEST(PointHistogramTest, TheLalondeHistogramsMatchABruteForceNearestSearch) {
+  // Three walls, 1 m apart: 3, 8 and 20 cm between points, jittered by up to 2 mm so that no
+  // two distances tie. A sample's 20 nearest then lie within a quarter or within three
+  // quarters of the 0.5 m radius, or the sphere holds fewer than 20: a dense car's samples
+  // with hundreds of points in the sphere to choose from, and a sparse one's with all of them.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> jitter(-0.002f, 0.002f);
+  std::vector<Eigen::Vector3f> points;
+  const auto wall = [&](float x, float spacing, int count) {
+    for (int i = 0; i < count; ++i) {
+      for (int j = 0; j < count; ++j) {
+        points.emplace_back(x + jitter(random), i * spacing + jitter(random),
+                            j * spacing + jitter(random));
+      }
+    }
+  };
+  wall(0.0f, 0.03f, 30);
+  wall(1.0f, 0.08f, 12);
+  wall(2.0f, 0.20f, 6);
+  PointHistogramConfig config;
+  config.sample_points = points.size();  // every point is a sample, in no random order
+  const std::vector<float> features = pointHistogramFeatures(toCloud(points), config);
+
+  const float radius = 0.5f;
+  std::vector<float> expected(3 * 7, 0.0f);
+  std::array<int, 3> twentieth_within{};  // a quarter, three quarters, beyond
+  for (const Eigen::Vector3f& centre : points) {
+    // Every point within the radius, nearest first (ties: the lower index first).
+    std::vector<std::pair<float, std::size_t>> near;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const Eigen::Vector3f d = points[k] - centre;
+      const float squared = d.x() * d.x() + (d.y() * d.y() + d.z() * d.z());
+      if (squared <= radius * radius) {
+        near.emplace_back(squared, k);
+      }
+    }
+    std::sort(near.begin(), near.end());
+    near.resize(std::min<std::size_t>(near.size(), 20));
+    const float twentieth = std::sqrt(near.back().first);
+    ++twentieth_within[near.size() < 20 || twentieth > 0.75f * radius ? 2
+                       : twentieth > 0.25f * radius                  ? 1
+                                                                     : 0];
+    std::vector<Eigen::Vector3f> neighbourhood;
+    for (const auto& [squared, k] : near) {
+      neighbourhood.push_back(points[k]);
+    }
+    const std::array<double, 3> lalonde = lalondeFeatures(neighbourhood, config.scatter);
+    for (std::size_t f = 0; f < 3; ++f) {
+      const auto bin = static_cast<std::size_t>(std::clamp(std::floor(lalonde[f] * 7), 0.0, 6.0));
+      expected[f * 7 + bin] += 1.0f / points.size();
+    }
+  }
+  for (const int samples : twentieth_within) {
+    EXPECT_GT(samples, 20);
+  }
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    EXPECT_NEAR(features[4 + k], expected[k], 1e-5) << "L" << k / 7 + 1 << " bin " << k % 7;
+  }
 }
 
 TEST(ObjectFeaturesTest, MeanStdAndTinyObjectsAreNeverNan) {

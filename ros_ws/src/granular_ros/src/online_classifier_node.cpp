@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <granular_core/online/object_classifier.h>
@@ -197,7 +198,7 @@ class OnlineClassifier {
     if (!inCloudFrame(output, cloud_message->header)) {
       return;
     }
-    const granular::FrameExtraction extraction =
+    granular::FrameExtraction extraction =
         granular::extractObjects(cloud, granular_ros::toDetections(output), extraction_);
     for (const std::string& error : extraction.errors) {
       ROS_WARN_STREAM_THROTTLE(10.0, "online_classifier: " << error);
@@ -209,7 +210,7 @@ class OnlineClassifier {
     for (std::size_t k = 0; k < extraction.objects.size(); ++k) {
       if (extraction.objects[k].cloud.size() >= min_points_) {
         object_of_id[extraction.objects[k].detection.id] = objects.size();
-        objects.push_back(extraction.objects[k].cloud);
+        objects.push_back(std::move(extraction.objects[k].cloud));
       }
     }
     const std::vector<granular::ObjectPrediction> predictions = classifier_.classify(objects);

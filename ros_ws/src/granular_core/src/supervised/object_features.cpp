@@ -124,6 +124,10 @@ Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3f>& points) {
   return sum / static_cast<double>(points.size());
 }
 
+// Shells of a quarter, a half and three quarters of neighbour_radius, in which a sample's
+// nearest points are looked for before the whole sphere.
+constexpr std::size_t kShells = 3;
+
 }  // namespace
 
 std::size_t featureSize(FeatureKind kind, const PointHistogramConfig& config) {
@@ -237,6 +241,8 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
   const float half_height = static_cast<float>(config.cylinder_height / 2.0);
   const CellIndex cells(points, std::max(config.neighbour_radius, config.cylinder_radius));
   const float share = 1.0f / static_cast<float>(samples.size());
+  const std::array<float, kShells> shells = {radius * radius / 16.0f, radius * radius / 4.0f,
+                                             radius * radius * 9.0f / 16.0f};  // squared
   float* const lalonde_histograms = &features[4];
   float* const slice_histograms = &features[4 + 3 * bins];
 
@@ -254,7 +260,7 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
 
   PointColumns candidates;
   std::vector<float> squared;
-  std::vector<std::int32_t> in_sphere, in_cylinder;  // 0 or 1, as wide as a float: vectorised
+  std::vector<std::int32_t> in_cylinder;  // 0 or 1, as wide as a float: vectorised
   // (squared distance, point index) as one number: a non-negative float's bits order as the
   // float does, so these order as the pairs do, and compare in one instruction.
   std::vector<std::uint64_t> near;
@@ -272,7 +278,6 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
     candidates.fill(points);
     const std::size_t count = candidates.index.size();
     squared.resize(count);
-    in_sphere.resize(count);
     in_cylinder.resize(count);
     near.resize(count);
     cylinder.resize(count);
@@ -280,22 +285,38 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
       const Eigen::Vector3f& centre = points[queries[first].second];
       // Each candidate's squared distance and squared distance in x-y, as Eigen's
       // (p - centre).squaredNorm() and .head<2>().squaredNorm() compute them (Eigen sums three
-      // values as x0 + (x1 + x2)), and whether it lies in the sphere and in the cylinder: one
-      // loop without branches, which the compiler vectorises.
+      // values as x0 + (x1 + x2)), whether it lies in the cylinder, and how many lie within
+      // each of the shells: one loop without branches, which the compiler vectorises.
+      std::array<std::int32_t, kShells> within{};
       {
         const float* __restrict x = candidates.x.data();
         const float* __restrict y = candidates.y.data();
         const float* __restrict z = candidates.z.data();
         float* __restrict distance = squared.data();
-        std::int32_t* __restrict sphere = in_sphere.data();
         std::int32_t* __restrict column = in_cylinder.data();
         const float cx = centre.x(), cy = centre.y(), cz = centre.z();
+        std::int32_t within0 = 0, within1 = 0, within2 = 0;
         for (std::size_t j = 0; j < count; ++j) {
           const float dx = x[j] - cx, dy = y[j] - cy, dz = z[j] - cz;
           distance[j] = dx * dx + (dy * dy + dz * dz);
-          sphere[j] = distance[j] <= radius * radius;
+          within0 += distance[j] <= shells[0];
+          within1 += distance[j] <= shells[1];
+          within2 += distance[j] <= shells[2];
           column[j] = (dx * dx + dy * dy <= cylinder_radius * cylinder_radius) &
                       (std::abs(dz) <= half_height);
+        }
+        within = {within0, within1, within2};
+      }
+      // The `neighbours` nearest within the radius lie within the smallest shell that holds that
+      // many (or else the sphere): only the points within it are ranked, which on a dense car is
+      // a fraction of its sphere's. The same points are kept; the covariance may sum them in
+      // another order, a difference in the last bits (on the demo's test objects and crowded
+      // frames no feature value changed).
+      float bound = radius * radius;
+      for (std::size_t shell = 0; shell < kShells; ++shell) {
+        if (static_cast<std::size_t>(within[shell]) >= config.neighbours) {
+          bound = shells[shell];
+          break;
         }
       }
       // Those in each, in the candidates' order, without a branch per candidate.
@@ -304,7 +325,7 @@ std::vector<float> pointHistogramFeatures(const Cloud& object,
         std::uint32_t bits;
         std::memcpy(&bits, &squared[j], sizeof bits);
         near[near_count] = static_cast<std::uint64_t>(bits) << 32 | candidates.index[j];
-        near_count += in_sphere[j];
+        near_count += squared[j] <= bound;
         cylinder[cylinder_count] = static_cast<std::uint32_t>(j);
         cylinder_count += in_cylinder[j];
       }

@@ -130,8 +130,8 @@ TEST(PointHistogramTest, AWallPointFillsTheCylinderSlicesEqually) {
 TEST(PointHistogramTest, TheLalondeHistogramsMatchABruteForceNearestSearch) {
   // Three walls, 1 m apart: 3, 8 and 20 cm between points, jittered by up to 2 mm so that no
   // two distances tie. A sample's 20 nearest then lie within a quarter or within three
-  // quarters of the 0.5 m radius, or the sphere holds fewer than 20: a dense car's samples
-  // with hundreds of points in the sphere to choose from, and a sparse one's with all of them.
+  // quarters of the 0.5 m radius, or the sphere holds fewer than 20: each of the shells the
+  // search ranks them in, and the whole sphere.
   std::mt19937 random(7);
   std::uniform_real_distribution<float> jitter(-0.002f, 0.002f);
   std::vector<Eigen::Vector3f> points;

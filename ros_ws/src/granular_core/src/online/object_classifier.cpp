@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -30,6 +31,19 @@ double fitnessMargin(const std::vector<PairResult>& per_model, std::size_t best,
     return 1.0;
   }
   return std::clamp(1.0 - per_model[best].fitness / second, 0.0, 1.0);
+}
+
+// Positions in `classified` (indices into `objects`), the objects with the most points first:
+// an object's point histograms cost grows with its points (a 1,500-point car costs 50 small
+// ones), and one handed out last would keep a thread busy while the others idle.
+std::vector<std::size_t> largestFirst(const std::vector<Cloud>& objects,
+                                      const std::vector<std::size_t>& classified) {
+  std::vector<std::size_t> order(classified.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return objects[classified[a]].size() > objects[classified[b]].size();
+  });
+  return order;
 }
 
 }  // namespace
@@ -159,7 +173,9 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     // frame's threads, as registration is.
     const SupervisedClassifier& classifier = *impl_->supervised;
     std::vector<std::vector<float>> features(classified.size());
-    parallelFor(classified.size(), impl_->threads, 4, [&](std::size_t k) {
+    const std::vector<std::size_t> order = largestFirst(objects, classified);
+    parallelFor(order.size(), impl_->threads, 1, [&](std::size_t position) {
+      const std::size_t k = order[position];
       const std::size_t i = classified[k];
       features[k] = classifier.fitnessFeatures(
           registrationFitnessFeatures(pairs[i], clouds[i].size(), classifier.takesInlierShares()),
@@ -181,7 +197,9 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
     }
     // Each object's features on its own: spread over the frame's threads, as registration is.
     std::vector<std::vector<float>> features(classified.size());
-    parallelFor(classified.size(), impl_->threads, 4, [&](std::size_t k) {
+    const std::vector<std::size_t> order = largestFirst(objects, classified);
+    parallelFor(order.size(), impl_->threads, 1, [&](std::size_t position) {
+      const std::size_t k = order[position];
       features[k] = classifier.features(objects[classified[k]]);
     });
     const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);

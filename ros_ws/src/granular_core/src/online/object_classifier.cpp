@@ -33,17 +33,29 @@ double fitnessMargin(const std::vector<PairResult>& per_model, std::size_t best,
   return std::clamp(1.0 - per_model[best].fitness / second, 0.0, 1.0);
 }
 
-// Positions in `classified` (indices into `objects`), the objects with the most points first:
-// an object's point histograms cost grows with its points (a 1,500-point car costs 50 small
-// ones), and one handed out last would keep a thread busy while the others idle.
-std::vector<std::size_t> largestFirst(const std::vector<Cloud>& objects,
-                                      const std::vector<std::size_t>& classified) {
+// The supervised classifier's answers for the objects `classified` names (indices into
+// `objects`), from featuresOf(i), each object's features computed on its own and spread over
+// the frame's threads, as registration is. The objects with the most points go first, one at
+// a time: an object's point histograms cost grows with its points (a 1,500-point car costs 50
+// small ones), and one handed out last would keep a thread busy while the others idle.
+template <typename FeaturesOf>
+void predictLargestFirst(const SupervisedClassifier& classifier, const std::vector<Cloud>& objects,
+                         const std::vector<std::size_t>& classified, int threads,
+                         FeaturesOf featuresOf, std::vector<ObjectPrediction>& predictions) {
   std::vector<std::size_t> order(classified.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return objects[classified[a]].size() > objects[classified[b]].size();
   });
-  return order;
+  std::vector<std::vector<float>> features(classified.size());
+  parallelFor(order.size(), threads, 1, [&](std::size_t position) {
+    const std::size_t k = order[position];
+    features[k] = featuresOf(classified[k]);
+  });
+  const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
+  for (std::size_t k = 0; k < classified.size(); ++k) {
+    predictions[classified[k]] = {true, answers[k].label, answers[k].score};
+  }
 }
 
 }  // namespace
@@ -169,22 +181,13 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
         classified.push_back(i);
       }
     }
-    // With the objects' point histograms when the classifier takes them: spread over the
-    // frame's threads, as registration is.
+    // With the objects' point histograms when the classifier takes them.
     const SupervisedClassifier& classifier = *impl_->supervised;
-    std::vector<std::vector<float>> features(classified.size());
-    const std::vector<std::size_t> order = largestFirst(objects, classified);
-    parallelFor(order.size(), impl_->threads, 1, [&](std::size_t position) {
-      const std::size_t k = order[position];
-      const std::size_t i = classified[k];
-      features[k] = classifier.fitnessFeatures(
+    predictLargestFirst(classifier, objects, classified, impl_->threads, [&](std::size_t i) {
+      return classifier.fitnessFeatures(
           registrationFitnessFeatures(pairs[i], clouds[i].size(), classifier.takesInlierShares()),
           objects[i]);
-    });
-    const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
-    for (std::size_t k = 0; k < classified.size(); ++k) {
-      predictions[classified[k]] = {true, answers[k].label, answers[k].score};
-    }
+    }, predictions);
     return predictions;
   }
   if (impl_->supervised) {
@@ -195,17 +198,9 @@ std::vector<ObjectPrediction> ObjectClassifier::classify(const std::vector<Cloud
         classified.push_back(i);
       }
     }
-    // Each object's features on its own: spread over the frame's threads, as registration is.
-    std::vector<std::vector<float>> features(classified.size());
-    const std::vector<std::size_t> order = largestFirst(objects, classified);
-    parallelFor(order.size(), impl_->threads, 1, [&](std::size_t position) {
-      const std::size_t k = order[position];
-      features[k] = classifier.features(objects[classified[k]]);
-    });
-    const std::vector<SupervisedPrediction> answers = classifier.predictWithScores(features);
-    for (std::size_t k = 0; k < classified.size(); ++k) {
-      predictions[classified[k]] = {true, answers[k].label, answers[k].score};
-    }
+    predictLargestFirst(classifier, objects, classified, impl_->threads,
+                        [&](std::size_t i) { return classifier.features(objects[i]); },
+                        predictions);
     return predictions;
   }
   const RegistrationClassifier& classifier = *impl_->registration;

@@ -37,13 +37,17 @@ class BoxTest {
     if (!((sensor - centre_).squaredNorm() <= radius_squared_)) {
       return std::nullopt;
     }
-    const Eigen::Vector3d local = to_object_ * sensor;
+    const Eigen::Vector3d local = toObject(point);
     if (((local - object_centre_).array().abs() <= limit_.array()).all()) {
       return local;
     }
     return std::nullopt;
   }
 
+  // `point` in the object frame, as inside() computes it.
+  Eigen::Vector3d toObject(const PointXYZIT& point) const {
+    return to_object_ * Eigen::Vector3d(point.x, point.y, point.z);
+  }
 
  private:
   Eigen::Isometry3d to_object_;
@@ -63,6 +67,34 @@ void finishCloud(Cloud& object) {
   object.width = static_cast<std::uint32_t>(object.points.size());
   object.height = 1;
   object.is_dense = true;
+}
+
+// Puts distinct point indices in ascending order. A box's points come cell by cell, and a
+// scan's cloud holds them ring after ring, so they spread over most of the cloud's indices:
+// where a bit per index in their range costs less than sorting them, the bits order them.
+// (Sorting was a quarter of a crowded demo frame's crop instructions, two fifths of a KITTI
+// frame's, where a car near the sensor keeps thousands of points.)
+void inCloudOrder(std::vector<std::uint32_t>& indices) {
+  if (indices.size() < 2) {
+    return;
+  }
+  const auto [low, high] = std::minmax_element(indices.begin(), indices.end());
+  const std::uint32_t first = *low;
+  const std::size_t words = (*high - first) / 64 + 1;
+  if (words > 4 * indices.size()) {
+    std::sort(indices.begin(), indices.end());
+    return;
+  }
+  std::vector<std::uint64_t> bits(words, 0);
+  for (const std::uint32_t index : indices) {
+    bits[(index - first) / 64] |= std::uint64_t{1} << ((index - first) % 64);
+  }
+  indices.clear();
+  for (std::size_t word = 0; word < words; ++word) {
+    for (std::uint64_t set = bits[word]; set != 0; set &= set - 1) {
+      indices.push_back(first + static_cast<std::uint32_t>(word * 64 + __builtin_ctzll(set)));
+    }
+  }
 }
 
 // The grid's cells at most, whatever the points' spread (4 million: 16 MB of cell starts).
@@ -153,22 +185,23 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   const auto [first_column, end_column] =
       cellRange(centre.x() - radius, centre.x() + radius, min_x_, columns_);
   const auto [first_row, end_row] = cellRange(centre.y() - radius, centre.y() + radius, min_y_, rows_);
-  std::vector<std::pair<std::uint32_t, Eigen::Vector3d>> kept;  // point index, object frame
+  std::vector<std::uint32_t> kept;  // point indices
   if (first_column < end_column) {
     for (std::size_t row = first_row; row < end_row; ++row) {
       const std::size_t cells = row * columns_;
       for (std::uint32_t c = start_[cells + first_column]; c < start_[cells + end_column]; ++c) {
-        if (const std::optional<Eigen::Vector3d> local = test.inside(cloud_.points[by_cell_[c]])) {
-          kept.emplace_back(by_cell_[c], *local);
+        if (test.inside(cloud_.points[by_cell_[c]])) {
+          kept.push_back(by_cell_[c]);
         }
       }
     }
   }
-  // Cloud order, as the whole-cloud scan keeps them.
-  std::sort(kept.begin(), kept.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [index, local] : kept) {
-    append(cloud_.points[index], local, object);
+  // Cloud order, as the whole-cloud scan keeps them; the kept points are transformed again
+  // below (the same arithmetic, the same values) rather than carried through the ordering.
+  inCloudOrder(kept);
+  object.points.reserve(kept.size());
+  for (const std::uint32_t index : kept) {
+    append(cloud_.points[index], test.toObject(cloud_.points[index]), object);
   }
   finishCloud(object);
   return object;

@@ -65,7 +65,7 @@ class OnlineMonitor:
         with self._lock:
             self.latencies.append(message.data)
 
-    def _decoded(self):
+    def _decode(self):
         """Decodes what arrived since the last call; call with the lock held."""
         for kind, serialised in self._received:
             message = Detection3DArray().deserialize(serialised)
@@ -80,33 +80,31 @@ class OnlineMonitor:
                 self._segments.append((_nanoseconds(message.header), _boxes(message)))
         self._received.clear()
 
+    def _copy(self, decoded):
+        """A copy of `decoded` (a list or dict above) once everything received is decoded."""
+        with self._lock:
+            self._decode()
+            return decoded.copy()
+
     @property
     def outputs(self):
         """(cloud stamp ns, [(id, label, score)]) of each output message."""
-        with self._lock:
-            self._decoded()
-            return list(self._outputs)
+        return self._copy(self._outputs)
 
     @property
     def truth(self):
         """(stamp ns, boxes) of each ground-truth message."""
-        with self._lock:
-            self._decoded()
-            return list(self._truth)
+        return self._copy(self._truth)
 
     @property
     def true_labels(self):
         """Detection id -> label, from the ground truth."""
-        with self._lock:
-            self._decoded()
-            return dict(self._true_labels)
+        return self._copy(self._true_labels)
 
     @property
     def segments(self):
         """(stamp ns, boxes) of each segmentation message."""
-        with self._lock:
-            self._decoded()
-            return list(self._segments)
+        return self._copy(self._segments)
 
     def labels(self):
         """Every label the classifier published."""

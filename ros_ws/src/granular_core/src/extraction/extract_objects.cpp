@@ -28,7 +28,13 @@ class BoxTest {
         radius_squared_(limit_.squaredNorm()) {}
 
   const Eigen::Vector3d& centre() const { return centre_; }
-  double radius() const { return std::sqrt(radius_squared_); }
+  // Half the x and y extents of the padded box in the sensor frame, around centre(): its
+  // corners seen from above lie within them.
+  Eigen::Vector2d halfExtentXY() const {
+    // Row i of the object-to-sensor rotation is column i of to_object_'s.
+    const Eigen::Matrix3d& rotation = to_object_.linear();
+    return {rotation.col(0).cwiseAbs().dot(limit_), rotation.col(1).cwiseAbs().dot(limit_)};
+  }
 
   // `point` in the object frame when it lies in the padded box.
   std::optional<Eigen::Vector3d> inside(const PointXYZIT& point) const {
@@ -167,10 +173,13 @@ FrameCropper::FrameCropper(const Cloud& cloud, double cell_size) : cloud_(cloud)
 Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding) const {
   const BoxTest test(box, padding);
   Cloud object;
-  // A hair wider than the sphere test, whose rounding could pass a point a last bit farther.
-  const double radius = test.radius() * (1.0 + 1e-9) + 1e-9;
+  // The box's x-y bounds, a hair wider than the exact test, whose rounding could pass a point
+  // a last bit farther. Within its circumscribed circle's square, and a third of it for a car
+  // along an axis (most of a street's).
+  const Eigen::Vector2d half =
+      test.halfExtentXY() * (1.0 + 1e-9) + Eigen::Vector2d::Constant(1e-9);
   const Eigen::Vector3d& centre = test.centre();
-  // The cells the box's circumscribed circle (from above) touches, clamped to the grid.
+  // The cells under those bounds, clamped to the grid.
   const auto cellRange = [this](double low, double high, double origin, std::size_t count) {
     const double first = std::floor((low - origin) / cell_size_);
     const double last = std::floor((high - origin) / cell_size_);
@@ -178,13 +187,14 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
         static_cast<std::size_t>(std::clamp(first, 0.0, double(count))),
         static_cast<std::size_t>(std::clamp(last + 1.0, 0.0, double(count))));
   };
-  if (columns_ == 0 || !std::isfinite(radius) || !centre.allFinite()) {
+  if (columns_ == 0 || !half.allFinite() || !centre.allFinite()) {
     finishCloud(object);
     return object;
   }
   const auto [first_column, end_column] =
-      cellRange(centre.x() - radius, centre.x() + radius, min_x_, columns_);
-  const auto [first_row, end_row] = cellRange(centre.y() - radius, centre.y() + radius, min_y_, rows_);
+      cellRange(centre.x() - half.x(), centre.x() + half.x(), min_x_, columns_);
+  const auto [first_row, end_row] =
+      cellRange(centre.y() - half.y(), centre.y() + half.y(), min_y_, rows_);
   std::vector<std::uint32_t> kept;  // point indices
   if (first_column < end_column) {
     for (std::size_t row = first_row; row < end_row; ++row) {

@@ -288,5 +288,26 @@ TEST(FrameCropperTest, CropsTheSamePointsInTheSameOrderAsTheWholeCloudScan) {
                   .empty());
 }
 
+TEST(FrameCropperTest, KeepsThePointsOnABoxsFacesWhereTheyMeetCellBorders) {
+  // 1 m cells from the lowest point (0, 0): the box's x-y faces lie on cell borders, and a
+  // point on a face (inside, as the whole scan counts it) lies in the cell beyond the face, so
+  // cells chosen from bounds a hair too narrow would miss it.
+  Cloud cloud;
+  cloud.push_back(PointXYZIT(0.0f, 0.0f, 0.0f, 0, 0.0));
+  for (const float x : {2.0f, 2.5f, 4.0f}) {
+    for (const float y : {1.0f, 1.5f, 3.0f}) {
+      cloud.push_back(PointXYZIT(x, y, 0.5f, 0, 0.0));
+    }
+  }
+  cloud.push_back(PointXYZIT(9.0f, 9.0f, 0.0f, 0, 0.0));
+  const OrientedBox box(Eigen::Vector3d(3.0, 2.0, 0.5), Eigen::Quaterniond::Identity(),
+                        Eigen::Vector3d(2.0, 2.0, 1.0));
+  ASSERT_EQ(cropToObjectFrame(cloud, box, Eigen::Vector3d::Zero()).size(), 9u);
+  const Cloud got = FrameCropper(cloud).crop(box, Eigen::Vector3d::Zero());
+  ASSERT_EQ(got.size(), 9u);
+  EXPECT_FLOAT_EQ(got[8].x, 1.0f);  // (4, 3): the far corner, in the object frame
+  EXPECT_FLOAT_EQ(got[8].y, 1.0f);
+}
+
 }  // namespace
 }  // namespace granular

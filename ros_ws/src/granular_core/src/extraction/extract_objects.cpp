@@ -174,8 +174,8 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   const BoxTest test(box, padding);
   Cloud object;
   // The box's x-y bounds, a hair wider than the exact test, whose rounding could pass a point
-  // a last bit farther. Within its circumscribed circle's square, and a third of it for a car
-  // along an axis (most of a street's).
+  // a last bit farther: within its circumscribed circle's square, a third of it for a car
+  // along an axis.
   const Eigen::Vector2d half =
       test.halfExtentXY() * (1.0 + 1e-9) + Eigen::Vector2d::Constant(1e-9);
   const Eigen::Vector3d& centre = test.centre();

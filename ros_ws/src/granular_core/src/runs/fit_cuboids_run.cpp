@@ -12,6 +12,7 @@
 #include "granular_core/cuboids/segment_views.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/parallel.h"
+#include "granular_core/tracking/tracker.h"
 #include "background_decision.h"
 #include "run_helpers.h"
 
@@ -42,6 +43,37 @@ struct Input {
   std::optional<runs::BackgroundDecision> decision;
 };
 
+// The cuboids of the tracks the tracker reports for this frame, by track id: each with its
+// track's id, velocity and class (where a frame voted).
+std::vector<Detection> trackedCuboids(Tracker& tracker, const DetectionsHeader& header,
+                                      const fs::path& cloud, const std::vector<Detection>& cuboids,
+                                      const std::vector<Observation>& observations) {
+  const double stamp =
+      static_cast<double>(header.secs) + 1e-9 * static_cast<double>(header.nsecs);
+  std::vector<Track> tracks;
+  try {
+    tracks = tracker.update(stamp, observations);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(cloud.string() + ": tracking needs frames in increasing stamps: " +
+                             error.what());
+  }
+  std::vector<Detection> tracked;
+  for (const Track& track : tracks) {
+    if (!track.observation) {
+      continue;  // coasting: no cuboid this frame
+    }
+    Detection cuboid = cuboids[*track.observation];
+    cuboid.id = track.id;
+    cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
+    if (track.share > 0.0) {
+      cuboid.label = track.label;
+      cuboid.score = track.share;
+    }
+    tracked.push_back(cuboid);
+  }
+  return tracked;
+}
+
 }  // namespace
 
 void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
@@ -56,6 +88,10 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
                 method.c_str(), boxes == CuboidInputs::kSegments ? "segments" : "detections",
                 frames, objects, fitted, seconds);
   out << line;
+  if (tracked) {
+    out << "  tracks born: " << tracks << "; cuboids of tracks not born, not written: "
+        << tentative << '\n';
+  }
   if (called_background > 0) {
     out << "  segments called Background (no cuboid): " << called_background << '\n';
   }
@@ -84,6 +120,11 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   OutputFolder output(out, "fit_cuboids", options.output, {frames});
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
+  std::optional<Tracker> tracker;
+  if (options.tracking) {
+    tracker.emplace(*options.tracking);
+    summary.tracked = true;
+  }
 
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
@@ -176,6 +217,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     });
 
     std::vector<Detection> cuboids;
+    std::vector<Observation> observations;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
       ++summary.objects;
       summary.milliseconds.push_back(milliseconds[i]);
@@ -195,6 +237,15 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.orientation = fitted[i]->box.orientation();
       cuboid.size = fitted[i]->box.size();
       cuboids.push_back(cuboid);
+      observations.push_back(Observation{fitted[i]->box, cuboid.label, cuboid.score});
+    }
+    if (tracker) {
+      cuboids = trackedCuboids(*tracker, header, frames / "pcd" / (stamp + ".pcd"), cuboids,
+                               observations);
+      summary.tentative += observations.size() - cuboids.size();
+      summary.tracks = tracker->born();
+    }
+    for (const Detection& cuboid : cuboids) {
       ++summary.labels[cuboid.label];
     }
     summary.fitted += cuboids.size();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "granular_core/geometry/overlap.h"
@@ -88,14 +89,24 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   // Associate: the least total centre distance over the pairs both gates let through.
   std::vector<double> costs(states_.size() * observations.size(),
                             std::numeric_limits<double>::infinity());
+  const double r = config_.filter.position_std * config_.filter.position_std;
   for (std::size_t t = 0; t < states_.size(); ++t) {
-    const OrientedBox predicted = predictedBox(states_[t]);
+    const State& state = states_[t];
+    const OrientedBox predicted = predictedBox(state);
+    const Eigen::Matrix2d innovation_covariance =
+        state.covariance.topLeftCorner<2, 2>() + r * Eigen::Matrix2d::Identity();
+    const double largest_std =
+        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(innovation_covariance,
+                                                                  Eigen::EigenvaluesOnly)
+                      .eigenvalues()
+                      .maxCoeff());
+    const double radius = std::max(config_.gate.max_distance, config_.gate.sigmas * largest_std);
+    const bool overlap_gated = config_.gate.min_overlap > 0.0 && state.hits > 1;
     for (std::size_t o = 0; o < observations.size(); ++o) {
       const OrientedBox& box = observations[o].box;
-      const double distance = (box.centre().head<2>() - states_[t].x.head<2>()).norm();
-      if (distance <= config_.gate.max_distance &&
-          (config_.gate.min_overlap == 0.0 ||
-           birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
+      const double distance = (box.centre().head<2>() - state.x.head<2>()).norm();
+      if (distance <= radius &&
+          (!overlap_gated || birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
         costs[t * observations.size() + o] = distance;
       }
     }
@@ -104,7 +115,6 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
       assignMinimumCost(costs, states_.size(), observations.size());
 
   // Correct the matched tracks; count the misses of the others.
-  const double r = config_.filter.position_std * config_.filter.position_std;
   std::vector<bool> taken(observations.size(), false);
   for (std::size_t t = 0; t < states_.size(); ++t) {
     State& state = states_[t];

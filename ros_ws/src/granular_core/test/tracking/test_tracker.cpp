@@ -214,6 +214,23 @@ TEST(TrackerTest, ANeighbourInTheNextLaneDoesNotTakeOverATrack) {
   EXPECT_EQ(run(0.0), (std::vector<std::uint32_t>{0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
 }
 
+TEST(TrackerTest, AFastCarIsFollowedFromItsSecondFrameOn) {
+  // Oncoming at 22 m/s relative to the sensor, 5 frames a second: 4.4 m a frame, beyond the
+  // 2 m gate, but a track seen once has no velocity yet and its gate is 3 standard deviations
+  // of the unknown velocity's reach (10 m/s x 0.2 s, about 6 m).
+  Tracker tracker;
+  std::vector<Track> tracks;
+  for (int k = 0; k < 8; ++k) {
+    tracks = tracker.update(k * 0.2, {car(40.0 - 4.4 * k, 3.5, M_PI)});
+  }
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].id, 1u);
+  EXPECT_EQ(tracks[0].observation, 0u);
+  EXPECT_EQ(tracks[0].hits, 8u);
+  EXPECT_NEAR(tracks[0].velocity.x(), -22.0, 0.5);
+  EXPECT_EQ(tracker.born(), 1u);
+}
+
 TEST(TrackerTest, AJumpBeyondTheDistanceGateStartsANewTrack) {
   Tracker tracker;
   std::vector<Track> tracks;

@@ -24,16 +24,22 @@ struct config::EnumNames<ClassVote> {
 
 /// Which detection may continue which track: both gates must pass.
 struct TrackingGateConfig {
-  /// m: the detection's centre at most this far (x-y) from the track's predicted centre.
+  /// m: the detection's centre at most this far (x-y) from the track's predicted centre, ...
   double max_distance = 2.0;
+  /// ... or, where more, this many standard deviations of the predicted centre (along its
+  /// most uncertain direction, the detection's error included): a track seen once has no
+  /// velocity yet, and a car coming the other way moves metres between frames.
+  double sigmas = 3.0;
   /// The footprints' shared area over the smaller footprint's, at least this (0: the distance
-  /// alone decides): two cars side by side in adjacent lanes do not overlap.
+  /// alone decides): two cars side by side in adjacent lanes do not overlap. Not asked of a
+  /// track seen once, whose predicted place is not known well enough to overlap.
   double min_overlap = 0.1;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
     using namespace config;
     visit("max_distance", self.max_distance, positive("m"));
+    visit("sigmas", self.sigmas, nonNegative("standard deviations"));
     visit("min_overlap", self.min_overlap, fraction());
   }
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -43,13 +44,33 @@ struct Input {
   std::optional<runs::BackgroundDecision> decision;
 };
 
-// The cuboids of the tracks the tracker reports for this frame, by track id: each with its
-// track's id, velocity and class (where a frame voted).
-std::vector<Detection> trackedCuboids(Tracker& tracker, const DetectionsHeader& header,
-                                      const fs::path& cloud, const std::vector<Detection>& cuboids,
-                                      const std::vector<Observation>& observations) {
+// A frame's cuboids, written once the tracks that may still be born from them have been.
+struct PendingFrame {
+  std::string stamp;
+  DetectionsHeader header;
+  std::vector<Detection> fitted;   // every cuboid fitted in the frame
+  std::vector<Detection> written;  // those to write: with tracking, the tracks' only
+};
+
+// `cuboid` as the track's: its id, velocity and class (where a frame voted).
+Detection trackCuboid(const Track& track, Detection cuboid) {
+  cuboid.id = track.id;
+  cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
+  if (track.share > 0.0) {
+    cuboid.label = track.label;
+    cuboid.score = track.share;
+  }
+  return cuboid;
+}
+
+// Tracks `frame` (the last of `pending`): its cuboids of reported tracks go to its written
+// list, and a track born in it adds its tentative frames' cuboids to theirs (offline, those
+// frames are still pending: `pending` holds the last birth_hits frames).
+void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame>& pending,
+                const std::vector<Observation>& observations) {
+  PendingFrame& frame = pending.back();
   const double stamp =
-      static_cast<double>(header.secs) + 1e-9 * static_cast<double>(header.nsecs);
+      static_cast<double>(frame.header.secs) + 1e-9 * static_cast<double>(frame.header.nsecs);
   std::vector<Track> tracks;
   try {
     tracks = tracker.update(stamp, observations);
@@ -57,21 +78,17 @@ std::vector<Detection> trackedCuboids(Tracker& tracker, const DetectionsHeader& 
     throw std::runtime_error(cloud.string() + ": tracking needs frames in increasing stamps: " +
                              error.what());
   }
-  std::vector<Detection> tracked;
   for (const Track& track : tracks) {
-    if (!track.observation) {
-      continue;  // coasting: no cuboid this frame
+    if (track.observation) {  // none while coasting
+      frame.written.push_back(trackCuboid(track, frame.fitted[*track.observation]));
     }
-    Detection cuboid = cuboids[*track.observation];
-    cuboid.id = track.id;
-    cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
-    if (track.share > 0.0) {
-      cuboid.label = track.label;
-      cuboid.score = track.share;
+    const std::size_t before = track.earlier_observations.size();
+    for (std::size_t i = 0; i < before; ++i) {
+      PendingFrame& earlier = pending[pending.size() - 1 - before + i];
+      earlier.written.push_back(
+          trackCuboid(track, earlier.fitted[track.earlier_observations[i]]));
     }
-    tracked.push_back(cuboid);
   }
-  return tracked;
 }
 
 }  // namespace
@@ -89,7 +106,7 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
                 frames, objects, fitted, seconds);
   out << line;
   if (tracked) {
-    out << "  tracks born: " << tracks << "; cuboids of tracks not born, not written: "
+    out << "  tracks born: " << tracks << "; cuboids of tracks never born, not written: "
         << tentative << '\n';
   }
   if (called_background > 0) {
@@ -121,10 +138,28 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
   std::optional<Tracker> tracker;
+  // Frames not written yet: a track born later may still add cuboids to them.
+  std::deque<PendingFrame> pending;
+  std::size_t held_frames = 0;
   if (options.tracking) {
     tracker.emplace(*options.tracking);
     summary.tracked = true;
+    held_frames = options.tracking->birth_hits - 1;
   }
+  const auto write = [&](PendingFrame& frame) {
+    if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
+      std::sort(frame.written.begin(), frame.written.end(),
+                [](const Detection& a, const Detection& b) { return a.id < b.id; });
+    }
+    for (const Detection& cuboid : frame.written) {
+      ++summary.labels[cuboid.label];
+    }
+    summary.fitted += frame.written.size();
+    summary.tentative += frame.fitted.size() - frame.written.size();
+    writeFile(output.staging() / (frame.stamp + ".json"),
+              detectionsJson(frame.written, frame.header), "JSON");
+    ++summary.frames;
+  };
 
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
@@ -216,7 +251,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
               .count();
     });
 
-    std::vector<Detection> cuboids;
+    PendingFrame pending_frame{stamp, header, {}, {}};
     std::vector<Observation> observations;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
       ++summary.objects;
@@ -236,24 +271,26 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.centre = fitted[i]->box.centre();
       cuboid.orientation = fitted[i]->box.orientation();
       cuboid.size = fitted[i]->box.size();
-      cuboids.push_back(cuboid);
+      pending_frame.fitted.push_back(cuboid);
       observations.push_back(Observation{fitted[i]->box, cuboid.label, cuboid.score});
     }
+    pending.push_back(std::move(pending_frame));
     if (tracker) {
-      cuboids = trackedCuboids(*tracker, header, frames / "pcd" / (stamp + ".pcd"), cuboids,
-                               observations);
-      summary.tentative += observations.size() - cuboids.size();
+      trackFrame(*tracker, frames / "pcd" / (stamp + ".pcd"), pending, observations);
       summary.tracks = tracker->born();
+    } else {
+      pending.back().written = pending.back().fitted;
     }
-    for (const Detection& cuboid : cuboids) {
-      ++summary.labels[cuboid.label];
+    while (pending.size() > held_frames) {
+      write(pending.front());
+      pending.pop_front();
     }
-    summary.fitted += cuboids.size();
-    writeFile(output.staging() / (stamp + ".json"), detectionsJson(cuboids, header), "JSON");
-    ++summary.frames;
     if (options.progress) {
       options.progress(frame + 1, stamps.size());
     }
+  }
+  for (; !pending.empty(); pending.pop_front()) {
+    write(pending.front());
   }
   output.commit();
   summary.seconds =

@@ -36,7 +36,7 @@ OrientedBox Tracker::predictedBox(const State& state) const {
 
 Track Tracker::reported(const State& state) const {
   Track track{state.id, predictedBox(state), Eigen::Vector2d::Zero(), config_.abstain_label,
-              0.0, state.hits, state.misses, state.observation};
+              0.0, state.hits, state.misses, state.observation, {}};
   track.velocity = state.x.tail<2>();
   const double speed = track.velocity.norm();
   if (speed >= config_.heading_min_speed) {
@@ -139,6 +139,9 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.z += config_.filter.size_gain * (observation.box.centre().z() - state.z);
     vote(state, observation);
     state.observation = o;
+    if (state.id == 0) {
+      state.tentative_observations.push_back(o);
+    }
     ++state.hits;
     ++state.streak;
     state.misses = 0;
@@ -169,6 +172,7 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.size = box.size();
     vote(state, observations[o]);
     state.observation = o;
+    state.tentative_observations = {o};
     state.hits = state.streak = 1;
     states_.push_back(std::move(state));
   }
@@ -176,11 +180,17 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   // Birth, in the order the tracks were started.
   std::vector<Track> tracks;
   for (State& state : states_) {
-    if (state.id == 0 && state.streak >= config_.birth_hits) {
+    const bool born = state.id == 0 && state.streak >= config_.birth_hits;
+    if (born) {
       state.id = next_id_++;
     }
     if (state.id != 0) {
       tracks.push_back(reported(state));
+    }
+    if (born) {
+      state.tentative_observations.pop_back();  // this frame's: `observation`
+      tracks.back().earlier_observations = std::move(state.tentative_observations);
+      state.tentative_observations.clear();
     }
   }
   std::sort(tracks.begin(), tracks.end(),

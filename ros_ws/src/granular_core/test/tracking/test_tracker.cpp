@@ -165,6 +165,25 @@ TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
   EXPECT_EQ(tracker.born(), 2u);
 }
 
+TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
+  // A from frame 0, B from frame 1 listed first: each is born in its third frame, naming
+  // where it was in the two before; later frames name none.
+  Tracker tracker;
+  std::vector<std::vector<std::size_t>> earlier_a, earlier_b;
+  for (int k = 0; k < 5; ++k) {
+    std::vector<Observation> frame;
+    if (k >= 1) frame.push_back(car(-10.0, 5.0));
+    frame.push_back(car(10.0, 0.0));
+    for (const Track& track : tracker.update(k * kPeriod, frame)) {
+      (track.observation == frame.size() - 1 ? earlier_a : earlier_b)
+          .push_back(track.earlier_observations);
+    }
+  }
+  using Indices = std::vector<std::size_t>;
+  EXPECT_EQ(earlier_a, (std::vector<Indices>{{0, 1}, {}, {}}));  // born in frame 2
+  EXPECT_EQ(earlier_b, (std::vector<Indices>{{0, 0}, {}}));      // born in frame 3
+}
+
 TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {
   Tracker tracker;
   std::vector<Track> tracks;

@@ -46,9 +46,11 @@ struct FitCuboidsOptions {
   /// (kept as not sure enough). Null: every segment gets a cuboid.
   const SupervisedClassifier* classifier = nullptr;
   /// Tracking (docs/tracking.md): each frame's cuboids, in stamp order, go through a Tracker
-  /// with this config, and only the cuboids of its reported tracks are written, each with its
+  /// with this config, and only the cuboids of its born tracks are written, each with its
   /// track's id, velocity and class so far (label and share; the cuboid's own where no frame
-  /// voted yet). None: every cuboid as fitted, numbered per frame, at rest.
+  /// voted yet), by id. Offline, a track's frames before its birth are written too (each
+  /// frame is held until the tracks that may still be born from it are). None: every cuboid
+  /// as fitted, numbered per frame, at rest.
   std::optional<TrackingConfig> tracking;
   /// The class models, for the model-based method.
   std::vector<LabelledModel> models;
@@ -70,7 +72,7 @@ struct FitCuboidsSummary {
   std::size_t called_background = 0;  ///< segments the classifier called Background
   bool tracked = false;         ///< whether the cuboids went through the tracker
   std::size_t tracks = 0;       ///< tracks born
-  std::size_t tentative = 0;    ///< cuboids not written: their track was not born (yet)
+  std::size_t tentative = 0;    ///< cuboids not written: their track was never born
   std::map<std::string, std::size_t> labels;  ///< cuboids per label
   /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
   std::vector<std::string> frames_skipped;

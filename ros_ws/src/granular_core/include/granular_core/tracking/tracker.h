@@ -36,6 +36,10 @@ struct Track {
   std::size_t misses = 0;  ///< frames in a row without one, up to the latest
   /// This frame's observation (an index into update's input); none while the track coasts.
   std::optional<std::size_t> observation;
+  /// In the frame the track is born only: its observations in the frames before, while it was
+  /// tentative (one in each of the birth_hits - 1 frames), oldest first, as indices into those
+  /// frames' inputs. An offline user may report the track there too; empty otherwise.
+  std::vector<std::size_t> earlier_observations;
 };
 
 /// Multi-object tracking of cuboids on the ground plane, frame by frame (docs/tracking.md): a
@@ -70,6 +74,7 @@ class Tracker {
     std::size_t streak = 0;  // frames with a detection in a row
     std::size_t misses = 0;
     std::optional<std::size_t> observation;
+    std::vector<std::size_t> tentative_observations;  // one per frame until born
     // Per label, the votes or scores so far and the frame of its latest vote (ties).
     std::map<std::string, double> weights;
     std::map<std::string, std::size_t> last_vote;

@@ -102,7 +102,7 @@ class ParkingLotConfig:
     wall_height: float = bounded(6.0, above=0.0)  # m, the building along the far side
     # m, from the kerbside row's outer side to the wall: a pavement
     pavement_width: float = bounded(2.0, at_least=0.0)
-    pedestrians: int = bounded(6, at_least=0)  # walking along the aisles
+    pedestrians: int = bounded(10, at_least=0)  # walking along the aisles
     pedestrian_speed: float = bounded(1.3, at_least=0.0)  # m/s
     # cars in the rows of bays; long vehicles park in the kerbside row along the wall
     bay_class_weights: Dict[str, float] = bounded(keys=VEHICLE_CLASSES, factory=lambda: {

@@ -206,3 +206,16 @@ def test_parking_lot_is_reproduced_by_its_seed_and_changed_by_another():
               for seed in (7, 7, 8)]
     np.testing.assert_array_equal(clouds[0], clouds[1])
     assert clouds[0].shape != clouds[2].shape or np.any(clouds[0] != clouds[2])
+
+
+def test_bad_parking_lot_parameters_stop_the_tool_naming_them(tmp_path, capsys):
+    config = tmp_path / "lot.yaml"
+    config.write_text("parking_lot:\n  side_gap: [1.0, 0.4]\n")
+    assert cli.main(["--out", str(tmp_path / "x.bag"), "--scene", "parking_lot",
+                     "--config", str(config)]) == 2
+    assert "parking_lot.side_gap" in capsys.readouterr().err
+    # 1 m/s for 200 s would carry the mast out of the 120 m lot.
+    assert cli.main(["--out", str(tmp_path / "x.bag"), "--scene", "parking_lot",
+                     "--duration", "200"]) == 2
+    assert "beyond the lot's length" in capsys.readouterr().err
+    assert not (tmp_path / "x.bag").exists()

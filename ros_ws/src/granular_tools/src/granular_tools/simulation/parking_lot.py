@@ -27,13 +27,20 @@ class ParkingLot(World):
     def __init__(self, config, duration, seed, class_meshes=None):
         super().__init__(config, duration, seed, class_meshes)
         self.lot = lot = config.parking_lot
-        for name in ("side_gap", "nose_gap", "kerb_size", "tree_spacing", "trunk_height",
-                     "canopy_radius", "hedge_height"):
+        for name in ("side_gap", "nose_gap", "tree_spacing", "trunk_height", "canopy_radius",
+                     "hedge_height"):
             value = getattr(lot, name)
-            if len(value) != 2 or (name != "kerb_size" and value[0] > value[1]):
-                raise ValueError(f"parking_lot.{name}: expected two numbers "
-                                 f"{'[width, height]' if name == 'kerb_size' else '[low, high]'}"
-                                 f", got {list(value)}")
+            if len(value) != 2 or value[0] > value[1]:
+                raise ValueError(f"parking_lot.{name}: expected [low, high] with low <= high, "
+                                 f"got {list(value)}")
+        if len(lot.kerb_size) != 2:
+            raise ValueError(f"parking_lot.kerb_size: expected [width, height], got "
+                             f"{list(lot.kerb_size)}")
+        travel = lot.sensor_speed * duration
+        if travel > lot.length:
+            raise ValueError(f"parking_lot: the mast would travel {travel:g} m in {duration:g} s, "
+                             f"beyond the lot's length of {lot.length:g} m (lower "
+                             "parking_lot.sensor_speed or the duration)")
         self.half_aisle = lot.aisle_width / 2.0
         self.strip_start = self.half_aisle + 2.0 * lot.bay_depth   # |y| of the strip's inner kerb
         self.strip_end = self.strip_start + lot.strip_width

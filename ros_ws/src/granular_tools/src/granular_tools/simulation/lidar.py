@@ -1,8 +1,10 @@
-"""A spinning 64-laser LiDAR: rays from the sensor origin, vectorised ray-triangle tests.
+"""A spinning LiDAR (rings and returns a revolution from the config or a sensor file): rays from
+the sensor origin, vectorised ray-triangle tests, and foliage volumes that rays enter.
 
 Because every ray starts at the sensor, the Moller-Trumbore terms that do not depend on the ray
 are computed once per triangle and the rest are three matrix products per object. Objects are
-culled to the window of rows and columns their bounding volume can reach.
+culled to the window of rows and columns their bounding volume can reach, and within it to the
+rays that cross their bounding box before anything nearer.
 """
 import dataclasses
 

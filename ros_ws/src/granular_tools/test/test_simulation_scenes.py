@@ -201,6 +201,22 @@ def test_canopy_returns_from_inside_its_volume_and_lets_some_rays_pass():
     assert np.mean(radius[inside] < 0.8) > 0.3
 
 
+def test_hedge_returns_within_its_first_free_paths():
+    lidar = Lidar(EXACT)
+    # A hedge 1 m thick across the line of sight, its near face 8 m ahead.
+    hedge = Volume(np.array([8.5, 0.0, -1.6]), np.array([0.5, 6.0, 0.7]), is_box=True,
+                   density=5.0)
+    returns = lidar.scan([], ground, np.random.default_rng(0), [hedge])
+    local = np.abs(returns.points - hedge.centre)
+    inside = np.all(local <= hedge.half_size + 1e-9, axis=1)
+    depth = returns.points[inside, 0] - (hedge.centre[0] - hedge.half_size[0])
+    assert np.count_nonzero(inside) > 100
+    # Exponential free paths of mean 1 / density = 0.2 m, cut at the far face 1 m in
+    # (rays enter at slightly different angles: a few per cent of slack).
+    assert np.mean(depth) == pytest.approx(0.2, rel=0.15)
+    assert depth.max() <= 1.0 + 1e-9 and np.mean(depth > 0.4) < 0.2
+
+
 def test_parking_lot_is_reproduced_by_its_seed_and_changed_by_another():
     clouds = [Drive(SimulatorConfig(), 0.2, seed=seed, scene="parking_lot").cloud(1).points
               for seed in (7, 7, 8)]

@@ -224,7 +224,7 @@ def test_parking_lot_is_reproduced_by_its_seed_and_changed_by_another():
     assert clouds[0].shape != clouds[2].shape or np.any(clouds[0] != clouds[2])
 
 
-def test_bad_parking_lot_parameters_stop_the_tool_naming_them(tmp_path, capsys):
+def test_bad_parking_lot_parameters_or_options_stop_the_tool_naming_them(tmp_path, capsys):
     config = tmp_path / "lot.yaml"
     config.write_text("parking_lot:\n  side_gap: [1.0, 0.4]\n")
     assert cli.main(["--out", str(tmp_path / "x.bag"), "--scene", "parking_lot",
@@ -234,4 +234,7 @@ def test_bad_parking_lot_parameters_stop_the_tool_naming_them(tmp_path, capsys):
     assert cli.main(["--out", str(tmp_path / "x.bag"), "--scene", "parking_lot",
                      "--duration", "200"]) == 2
     assert "beyond the lot's length" in capsys.readouterr().err
+    assert cli.main(["--out", str(tmp_path / "x.bag"), "--scene", "parking_lot",
+                     "--traffic", "2"]) == 2
+    assert "--traffic applies to the road scene" in capsys.readouterr().err
     assert not (tmp_path / "x.bag").exists()

@@ -76,6 +76,8 @@ def main(argv=None):
             config = dataclasses.replace(
                 config, lidar=load_sensor(args.sensor).lidar_config(config.lidar))
         if args.traffic is not None:
+            if args.scene != "road":
+                raise ConfigError(f"--traffic applies to the road scene, not --scene {args.scene}")
             if args.traffic < 0.0:
                 raise ConfigError(f"--traffic must be >= 0, got {args.traffic}")
             config = dataclasses.replace(

@@ -16,7 +16,7 @@ from .scene import World
 
 # A canopy's vertical semi-axis relative to its horizontal ones.
 CANOPY_FLATNESS = 0.8
-# Share of cars in bays that parked nose first (facing away from the aisle).
+# Share of cars in bays that face away from the main aisle (parked nose first in the first row).
 NOSE_IN_SHARE = 0.7
 # m, hedge segments along the lot's edge and the breaks between them
 HEDGE_SEGMENT = (6.0, 15.0)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <deque>
 #include <cstdio>
 #include <optional>
@@ -52,8 +53,15 @@ struct PendingFrame {
   std::vector<Detection> written;  // those to write: with tracking, the tracks' only
 };
 
-// `cuboid` as the track's: its id, velocity and class (where a frame voted).
+// `cuboid` as the track's: its id, velocity and class (where a frame voted), turned about the
+// sensor's z to the track's smoothed yaw (by at most 90 degrees: its own front kept). The
+// smoothed yaw misses the paper's 10 degrees less often than the frame's own (simulated train
+// drive: MOTA 0.743 -> 0.760, docs/tracking.md); the centre stays the fitted one.
 Detection trackCuboid(const Track& track, Detection cuboid) {
+  const double yaw = OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size).yaw();
+  const double turn = std::remainder(track.box.yaw() - yaw, M_PI);
+  cuboid.orientation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ())) * cuboid.orientation;
   cuboid.id = track.id;
   cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
   if (track.share > 0.0) {

@@ -187,6 +187,7 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
   }
   FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
   tracked.tracking = TrackingConfig();
+  tracked.tracking->birth_hits = 3;
   const FitCuboidsSummary summary =
       fitCuboidsFolder(drive, root_ / "tracked", carPrior(), tracked);
   EXPECT_EQ(summary.frames, 5u);

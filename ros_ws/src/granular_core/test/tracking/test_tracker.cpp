@@ -26,6 +26,14 @@ Observation car(double x, double y, double yaw = 0.0, const std::string& label =
       label, score};
 }
 
+// Births after three hits, as the tests count frames (the default is 5: fewer tracks of
+// clutter on the simulator's drives, docs/tracking.md).
+TrackingConfig threeHits() {
+  TrackingConfig config;
+  config.birth_hits = 3;
+  return config;
+}
+
 // The id of the reported track holding observation `index` this frame; 0 when none does.
 std::uint32_t idOf(const std::vector<Track>& tracks, std::size_t index) {
   for (const Track& track : tracks) {
@@ -40,7 +48,7 @@ TEST(TrackerTest, TwoObjectsCrossingPathsKeepTheirIds) {
   // A heads up and B down a shallow X at 10 m/s, meeting between two frames: at x = 0.5 each
   // is nearer the other's last place (1.0 m) than its own (1.04 m), so only the motion
   // keeps them apart. The observations come in a different order every frame.
-  Tracker tracker;
+  Tracker tracker(threeHits());
   const double slope = 0.3;
   std::map<std::string, std::uint32_t> ids;
   for (int k = 0; k < 20; ++k) {
@@ -70,7 +78,7 @@ TEST(TrackerTest, TwoObjectsCrossingPathsKeepTheirIds) {
 }
 
 TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
-  Tracker tracker;
+  Tracker tracker(threeHits());
   for (int k = 0; k < 12; ++k) {
     std::vector<Observation> frame;
     if (k != 6) {
@@ -96,7 +104,7 @@ TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
 
 TEST(TrackerTest, ATrackWhoseFramesSaySedanSedanSuvSedanIsASedan) {
   for (const ClassVote vote : {ClassVote::kScores, ClassVote::kVotes}) {
-    TrackingConfig config;
+    TrackingConfig config = threeHits();
     config.vote = vote;
     config.birth_hits = 1;
     Tracker tracker(config);
@@ -116,7 +124,7 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
                                            car(10, 0, 0, "Sedan", 0.3), car(10, 0, 0, "SUV", 0.9),
                                            car(10, 0, 0, "unknown")};
   const auto decide = [&](ClassVote vote) {
-    TrackingConfig config;
+    TrackingConfig config = threeHits();
     config.vote = vote;
     config.birth_hits = 1;
     Tracker tracker(config);
@@ -133,7 +141,7 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
   EXPECT_EQ(by_votes.label, "Sedan");  // 2 against 1; the unknowns do not count
   EXPECT_DOUBLE_EQ(by_votes.share, 2.0 / 3.0);
 
-  TrackingConfig config;
+  TrackingConfig config = threeHits();
   config.birth_hits = 1;
   Tracker tracker(config);
   const Track unnamed = tracker.update(0.0, {car(10, 0)}).at(0);
@@ -147,8 +155,8 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
 
 TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
   // Object A is seen in frames 0-9, B in frames 4-5 only (never born), C in 3-14, and frame 7
-  // holds clutter far from everything; the defaults: birth_hits 3, death_misses 3.
-  Tracker tracker;
+  // holds clutter far from everything; birth_hits 3, death_misses 3 (the default).
+  Tracker tracker(threeHits());
   std::vector<std::size_t> reported;
   for (int k = 0; k < 20; ++k) {
     std::vector<Observation> frame;
@@ -168,7 +176,7 @@ TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
 TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
   // A from frame 0, B from frame 1 listed first: each is born in its third frame, naming
   // where it was in the two before; later frames name none.
-  Tracker tracker;
+  Tracker tracker(threeHits());
   std::vector<std::vector<std::size_t>> earlier_a, earlier_b;
   for (int k = 0; k < 5; ++k) {
     std::vector<Observation> frame;
@@ -185,7 +193,7 @@ TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
 }
 
 TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {
-  Tracker tracker;
+  Tracker tracker(threeHits());
   std::vector<Track> tracks;
   for (int k = 0; k < 30; ++k) {
     // Moving at (3, -4) m/s; the cuboids say yaw + pi (their front is not known).
@@ -202,7 +210,7 @@ TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {
 TEST(TrackerTest, YawIsSmoothedModuloHalfATurn) {
   // A parked car whose cuboid's front flips every frame: the yaw stays 0.05 rad modulo pi
   // (an average of 0.05 and pi + 0.05 would turn the car across its lane).
-  Tracker tracker;
+  Tracker tracker(threeHits());
   std::vector<Track> tracks;
   for (int k = 0; k < 10; ++k) {
     tracks = tracker.update(k * kPeriod, {car(8.0, 2.0, 0.05 + (k % 2) * M_PI)});
@@ -217,7 +225,7 @@ TEST(TrackerTest, ANeighbourInTheNextLaneDoesNotTakeOverATrack) {
   // A parks at y = 0 for five frames and is gone; B, parked beside it 1.95 m away (within
   // the 2 m distance gate, footprints apart), is seen from then on: a new track, not A's.
   const auto run = [](double min_overlap) {
-    TrackingConfig config;
+    TrackingConfig config = threeHits();
     config.gate.min_overlap = min_overlap;
     Tracker tracker(config);
     std::vector<std::uint32_t> ids;
@@ -237,7 +245,7 @@ TEST(TrackerTest, AFastCarIsFollowedFromItsSecondFrameOn) {
   // Oncoming at 22 m/s relative to the sensor, 5 frames a second: 4.4 m a frame, beyond the
   // 2 m gate, but a track seen once has no velocity yet and its gate is 3 standard deviations
   // of the unknown velocity's reach (10 m/s x 0.2 s, about 6 m).
-  Tracker tracker;
+  Tracker tracker(threeHits());
   std::vector<Track> tracks;
   for (int k = 0; k < 8; ++k) {
     tracks = tracker.update(k * 0.2, {car(40.0 - 4.4 * k, 3.5, M_PI)});
@@ -251,7 +259,7 @@ TEST(TrackerTest, AFastCarIsFollowedFromItsSecondFrameOn) {
 }
 
 TEST(TrackerTest, AJumpBeyondTheDistanceGateStartsANewTrack) {
-  Tracker tracker;
+  Tracker tracker(threeHits());
   std::vector<Track> tracks;
   for (int k = 0; k < 4; ++k) {
     tracks = tracker.update(k * kPeriod, {car(10.0, 0.0)});
@@ -263,7 +271,7 @@ TEST(TrackerTest, AJumpBeyondTheDistanceGateStartsANewTrack) {
 }
 
 TEST(TrackerTest, RefusesStampsThatDoNotMoveOnAndBadConfigs) {
-  Tracker tracker;
+  Tracker tracker(threeHits());
   tracker.update(1.0, {});
   EXPECT_THROW(tracker.update(1.0, {}), std::invalid_argument);
   EXPECT_THROW(tracker.update(0.5, {}), std::invalid_argument);

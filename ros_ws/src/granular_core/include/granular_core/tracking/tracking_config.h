@@ -75,8 +75,10 @@ struct TrackingConfig {
   TrackingGateConfig gate;
   TrackingFilterConfig filter;
   /// A new track is reported (and numbered) once it has had a detection in this many frames
-  /// in a row; a tentative track missed once is dropped.
-  std::size_t birth_hits = 3;
+  /// in a row; a tentative track missed once is dropped. 5 rather than 3: clutter that the
+  /// segmentation finds in a few frames in a row makes fewer tracks (simulated train drive,
+  /// docs/tracking.md).
+  std::size_t birth_hits = 5;
   /// A reported track is dropped after this many frames in a row without a detection.
   std::size_t death_misses = 3;
   ClassVote vote = ClassVote::kScores;

@@ -43,7 +43,8 @@ struct FitCuboidsOptions {
   /// The Background decision (kSegments): a classifier trained with Background objects; the
   /// segments it calls segmentation.background.label get no cuboid, the others its class and
   /// score where the fitter gives no label (kUnknownLabel) and the class is not Background
-  /// (kept as not sure enough). Null: every segment gets a cuboid.
+  /// (kept as not sure enough). Null: the zero-shot vehicle decision (CuboidConfig::evidence,
+  /// the objects segmentation only) decides which segments get a cuboid.
   const SupervisedClassifier* classifier = nullptr;
   /// Tracking (docs/tracking.md): each frame's cuboids, in stamp order, go through a Tracker
   /// with this config, and only the cuboids of its born tracks are written, each with its
@@ -73,6 +74,9 @@ struct FitCuboidsSummary {
   bool tracked = false;         ///< whether the cuboids went through the tracker
   std::size_t tracks = 0;       ///< tracks born
   std::size_t tentative = 0;    ///< cuboids not written: their track was never born
+  /// Segments the zero-shot vehicle decision (CuboidConfig::evidence, segments without a
+  /// classifier) gave no cuboid, by verdict name.
+  std::map<std::string, std::size_t> not_vehicles;
   std::map<std::string, std::size_t> labels;  ///< cuboids per label
   /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
   std::vector<std::string> frames_skipped;

@@ -40,7 +40,7 @@ Track Tracker::reported(const State& state) const {
   track.velocity = state.x.tail<2>();
   const double speed = track.velocity.norm();
   if (speed >= config_.heading_min_speed) {
-    // The axis turned to point along the velocity.
+    // The front taken to be the end the velocity points to; the axis stays.
     const double heading = std::atan2(track.velocity.y(), track.velocity.x());
     const double yaw = heading + axisDifference(state.yaw - heading);
     track.box = boxOnGround(state.x.head<2>(), state.z, yaw, state.size);

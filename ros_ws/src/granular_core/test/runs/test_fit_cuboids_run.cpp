@@ -204,12 +204,8 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
   FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
   tracked.tracking = TrackingConfig();
   tracked.tracking->birth_hits = 3;
-  // Every segment a cuboid: the scene's cars are faces alone, which the zero-shot vehicle
-  // decision is not asked to take for vehicles here.
-  CuboidConfig every_segment = carPrior();
-  every_segment.evidence.enabled = false;
   const FitCuboidsSummary summary =
-      fitCuboidsFolder(drive, root_ / "tracked", every_segment, tracked);
+      fitCuboidsFolder(drive, root_ / "tracked", carPrior(), tracked);
   EXPECT_EQ(summary.frames, 5u);
   EXPECT_EQ(summary.tracks, 1u);
   EXPECT_EQ(summary.tentative, 1u);
@@ -230,8 +226,8 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
       << written[4].velocity.transpose();
   EXPECT_LT((written[0].centre.head<2>() - car_.centre).norm(), 0.05);
   // Without tracking: every cuboid, numbered in its frame, at rest.
-  const FitCuboidsSummary untracked = fitCuboidsFolder(drive, root_ / "untracked", every_segment,
-                                                       options(CuboidInputs::kSegments));
+  const FitCuboidsSummary untracked =
+      fitCuboidsFolder(drive, root_ / "untracked", carPrior(), options(CuboidInputs::kSegments));
   EXPECT_EQ(untracked.fitted, 6u);
   const std::vector<Detection> crowded =
       readDetectionsJson(root_ / "untracked" / (stamps[3] + ".json"));

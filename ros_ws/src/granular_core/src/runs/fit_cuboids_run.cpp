@@ -11,6 +11,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/cuboids/segment_views.h"
 #include "granular_core/cuboids/vehicle_evidence.h"
+#include "granular_core/cuboids/vehicle_split.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/parallel.h"
 #include "background_decision.h"
@@ -126,6 +127,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     std::optional<FreeSpace> free_space;
     // Segments without a classifier: the zero-shot vehicle decision on each fitted cuboid.
     std::optional<VehicleEvidence> evidence;
+    std::size_t split_ids = 0;
     // Given boxes, or the Background decision on segments, crop the frame box by box.
     std::optional<FrameCropper> cropper;
     if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr) {
@@ -152,7 +154,21 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
         input.id = static_cast<std::int64_t>(s);
         input.view = segment_views->view(s);
-        inputs.push_back(std::move(input));
+        if (!evidence) {
+          inputs.push_back(std::move(input));
+          continue;
+        }
+        // With the vehicle decision, touching cars are cut apart first; a piece after the
+        // first takes an id after the frame's segments.
+        std::vector<ObjectView> pieces = splitVehicles(input.view, config.split);
+        for (std::size_t p = 0; p < pieces.size(); ++p) {
+          Input piece;
+          piece.id = p == 0 ? input.id
+                            : static_cast<std::int64_t>(segmentation.segments.size() +
+                                                        split_ids++);
+          piece.view = std::move(pieces[p]);
+          inputs.push_back(std::move(piece));
+        }
       }
     } else {
       const GroundPlane ground =

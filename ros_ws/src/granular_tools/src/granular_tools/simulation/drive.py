@@ -1,22 +1,29 @@
 """A simulated drive: the scene, the sensor, and the two clocks (clouds and detections)."""
+import dataclasses
+
 import numpy as np
 
 from .lidar import Lidar
-from .scene import Scene
+from .parking_lot import ParkingLot
+from .scene import RoadScene
+
+SCENES = {"road": RoadScene, "parking_lot": ParkingLot}
 
 # Separate random streams, so that e.g. changing the noise never moves the traffic.
 _STREAM_CLOCKS, _STREAM_CLOUD = 1, 2
 
 
 class Drive:
-    def __init__(self, config, duration, seed, class_meshes=None):
+    def __init__(self, config, duration, seed, class_meshes=None, scene="road"):
         if duration <= 0.0:
             raise ValueError(f"duration must be positive, got {duration}")
         self.config = config
         self.duration = duration
         self.seed = seed
-        self.scene = Scene(config, duration, seed, class_meshes)
-        self.lidar = Lidar(config.lidar)
+        self.scene = SCENES[scene](config, duration, seed, class_meshes)
+        # The scene says how high the sensor stands (a parking lot's mast).
+        self.lidar = Lidar(dataclasses.replace(config.lidar,
+                                               mount_height=self.scene.sensor_height))
         clock_rng = np.random.default_rng([seed, _STREAM_CLOCKS])
         self.cloud_times = self._clock(config.lidar.rate_hz, 0.0, config.lidar.stamp_jitter,
                                        clock_rng)
@@ -35,7 +42,7 @@ class Drive:
         t = self.cloud_times[index]
         rng = np.random.default_rng([self.seed, _STREAM_CLOUD, index])
         return self.lidar.scan(self.scene.placed_meshes(t), self.scene.ground_reflectivity(t),
-                               rng)
+                               rng, self.scene.placed_volumes(t))
 
     def detections(self, index):
         return self.scene.detections(self.detection_times[index])

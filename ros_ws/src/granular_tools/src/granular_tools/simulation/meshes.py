@@ -9,10 +9,10 @@ import os
 import numpy as np
 
 # Surface materials and their LiDAR reflectivity (0-1). PAINT takes the instance's own colour.
-PAINT, GLASS, TYRE, METAL, CONCRETE, FOLIAGE, CLOTH = range(7)
-REFLECTIVITY = np.array([np.nan, 0.08, 0.04, 0.45, 0.3, 0.22, 0.3])
+PAINT, GLASS, TYRE, METAL, CONCRETE, FOLIAGE, CLOTH, BARK = range(8)
+REFLECTIVITY = np.array([np.nan, 0.08, 0.04, 0.45, 0.3, 0.22, 0.3, 0.25])
 # Glass lets part of the beams through, so windows have holes as in real scans.
-EXTRA_DROPOUT = np.array([0.0, 0.35, 0.0, 0.0, 0.0, 0.1, 0.0])
+EXTRA_DROPOUT = np.array([0.0, 0.35, 0.0, 0.0, 0.0, 0.1, 0.0, 0.0])
 
 VEHICLE_CLASSES = ("Sedan", "SUV", "Hatchback", "Jeep", "BoxTruck", "SchoolBus")
 CLASSES = VEHICLE_CLASSES + ("Pedestrian",)
@@ -209,6 +209,14 @@ BUILT_IN = {"Sedan": sedan, "SUV": suv, "Hatchback": hatchback, "Jeep": jeep,
 
 def pole(height):
     return prism(polygon(0.12), (2, 0.0, height), (0.0, 0.0), METAL).centred()
+
+
+def trunk(height, radius):
+    return prism(polygon(radius), (2, 0.0, height), (0.0, 0.0), BARK).centred()
+
+
+def kerb(length, width, height):
+    return box((0.0, 0.0, 0.0), (length, width, height), CONCRETE)
 
 
 def wall(length, height):

@@ -1,7 +1,8 @@
-"""A straight multi-lane road with moving and parked traffic, pedestrians and clutter.
+"""Scenes: the actors of a drive and what the sensor sees of them; here the straight road.
 
-World frame: x along the road in the ego's direction, y left, z up, road surface at z = 0.
-Everything moves at constant velocity along x, so poses at any stamp are exact.
+World frame: x along the road (or the parking lot's aisles) in the ego's direction, y left,
+z up, ground at z = 0. Everything moves at constant velocity along x, so poses at any stamp are
+exact.
 """
 import dataclasses
 from typing import Optional
@@ -89,24 +90,105 @@ class Road:
                                  VERGE_REFLECTIVITY))
 
 
-class Scene:
-    """All actors of one drive, generated from a seed."""
+class World:
+    """Actors of one drive generated from a seed, and what the sensor sees of them at a stamp.
+
+    A scene spawns its actors (and foliage volumes) and says where the sensor is.
+    """
 
     def __init__(self, config, duration, seed, class_meshes=None):
         self.config = config
-        self.road = Road(config.road)
         self.duration = duration
         self.rng = np.random.default_rng(seed)
         self.class_meshes = {name: make() for name, make in meshes.BUILT_IN.items()}
         self.class_meshes.update(class_meshes or {})
         self.actors = []
+        self.volumes = []          # foliage in the world frame (lidar.Volume), static
         self._next_id = 100
+
+    @property
+    def sensor_height(self):
+        """m, the sensor above the ground: the ground lies at z = -sensor_height."""
+        raise NotImplementedError
+
+    def ego_position(self, t):
+        """World position of the sensor at stamp t."""
+        raise NotImplementedError
+
+    def ground_reflectivity(self, t):
+        """Reflectivity of the ground at sensor-frame (x, y) positions, for the stamp t."""
+        raise NotImplementedError
+
+    # --- spawning ------------------------------------------------------------------------
+    def _actor(self, label, x0, y, speed, yaw_nominal, yaw_noise_deg, mesh=None):
+        traffic = self.config.traffic
+        if mesh is None:
+            variation = traffic.size_variation
+            mesh = self.class_meshes[label].scaled(1.0 + self.rng.uniform(-variation, variation, 3))
+        tilt = np.radians(traffic.tilt_noise_deg)
+        actor = Actor(object_id=self._next_id, label=label, mesh=mesh, x0=x0, y=y, speed=speed,
+                      roll=self.rng.uniform(-tilt, tilt), pitch=self.rng.uniform(-tilt, tilt),
+                      yaw=yaw_nominal + np.radians(self.rng.uniform(-yaw_noise_deg,
+                                                                    yaw_noise_deg)),
+                      reflectivity=self.rng.uniform(0.25, 0.85))
+        self._next_id += 1
+        self.actors.append(actor)
+        return actor
+
+    # --- observation ---------------------------------------------------------------------
+    def _relative_pose(self, actor, t):
+        """Actor rotation and centre in the sensor frame (the ego does not turn)."""
+        rotation = rotation_rpy(actor.roll, actor.pitch, actor.yaw)
+        return rotation, actor.centre(t) - self.ego_position(t)
+
+    def placed_meshes(self, t):
+        reach = self.config.lidar.max_range
+        placed = []
+        for actor in self.actors:
+            rotation, centre = self._relative_pose(actor, t)
+            if np.hypot(centre[0], centre[1]) > reach + 0.6 * np.max(actor.size) + 1.0:
+                continue
+            vertices = actor.mesh.vertices @ rotation.T + centre
+            placed.append(PlacedMesh(vertices, actor.mesh.faces, actor.mesh.materials,
+                                     actor.reflectivity))
+        return placed
+
+    def placed_volumes(self, t):
+        """Foliage volumes in the sensor frame at stamp t."""
+        ego = self.ego_position(t)
+        return [dataclasses.replace(volume, centre=volume.centre - ego) for volume in self.volumes]
+
+    def detections(self, t):
+        """Ground-truth boxes of labelled actors at stamp t, in the sensor frame."""
+        result = []
+        for actor in self.actors:
+            if actor.label is None:
+                continue
+            rotation, centre = self._relative_pose(actor, t)
+            if np.linalg.norm(centre) > self.config.detections.max_range:
+                continue
+            result.append(Detection(actor.object_id, actor.label, centre,
+                                    quaternion_from_rpy(actor.roll, actor.pitch, actor.yaw),
+                                    actor.size, abs(actor.speed)))
+        return result
+
+
+class RoadScene(World):
+    """A straight road: moving and parked traffic, pedestrians and roadside clutter."""
+
+    def __init__(self, config, duration, seed, class_meshes=None):
+        super().__init__(config, duration, seed, class_meshes)
+        self.road = Road(config.road)
         self._spawn_traffic()
         self._spawn_parked()
         self._spawn_pedestrians()
         self._spawn_clutter()
 
     # --- ego -----------------------------------------------------------------------------
+    @property
+    def sensor_height(self):
+        return self.config.lidar.mount_height
+
     def ego_position(self, t):
         cfg = self.config
         return np.array([cfg.road.ego_speed * t, self.road.ego_y, cfg.lidar.mount_height])
@@ -136,21 +218,6 @@ class Scene:
         weights = np.array([traffic.class_weights[n] for n in names], float)
         label = names[self.rng.choice(len(names), p=weights / weights.sum())]
         return self._actor(label, x0, y, speed, yaw_nominal, yaw_noise_deg)
-
-    def _actor(self, label, x0, y, speed, yaw_nominal, yaw_noise_deg, mesh=None):
-        traffic = self.config.traffic
-        if mesh is None:
-            variation = traffic.size_variation
-            mesh = self.class_meshes[label].scaled(1.0 + self.rng.uniform(-variation, variation, 3))
-        tilt = np.radians(traffic.tilt_noise_deg)
-        actor = Actor(object_id=self._next_id, label=label, mesh=mesh, x0=x0, y=y, speed=speed,
-                      roll=self.rng.uniform(-tilt, tilt), pitch=self.rng.uniform(-tilt, tilt),
-                      yaw=yaw_nominal + np.radians(self.rng.uniform(-yaw_noise_deg,
-                                                                    yaw_noise_deg)),
-                      reflectivity=self.rng.uniform(0.25, 0.85))
-        self._next_id += 1
-        self.actors.append(actor)
-        return actor
 
     def _spawn_traffic(self):
         road, traffic = self.config.road, self.config.traffic
@@ -207,38 +274,7 @@ class Scene:
                 self._actor(None, x0, y, 0.0, 0.0, 0.0 if kind == 2 else 1.0, mesh=mesh)
 
     # --- observation ---------------------------------------------------------------------
-    def _relative_pose(self, actor, t):
-        """Actor rotation and centre in the sensor frame (the ego does not turn)."""
-        rotation = rotation_rpy(actor.roll, actor.pitch, actor.yaw)
-        return rotation, actor.centre(t) - self.ego_position(t)
-
     def ground_reflectivity(self, t):
         """Reflectivity of the road at sensor-frame (x, y) positions, for the stamp t."""
         ego_x, ego_y = self.ego_position(t)[:2]
         return lambda x, y: self.road.reflectivity(x + ego_x, y + ego_y)
-
-    def placed_meshes(self, t):
-        reach = self.config.lidar.max_range
-        placed = []
-        for actor in self.actors:
-            rotation, centre = self._relative_pose(actor, t)
-            if np.hypot(centre[0], centre[1]) > reach + 0.6 * np.max(actor.size) + 1.0:
-                continue
-            vertices = actor.mesh.vertices @ rotation.T + centre
-            placed.append(PlacedMesh(vertices, actor.mesh.faces, actor.mesh.materials,
-                                     actor.reflectivity))
-        return placed
-
-    def detections(self, t):
-        """Ground-truth boxes of labelled actors at stamp t, in the sensor frame."""
-        result = []
-        for actor in self.actors:
-            if actor.label is None:
-                continue
-            rotation, centre = self._relative_pose(actor, t)
-            if np.linalg.norm(centre) > self.config.detections.max_range:
-                continue
-            result.append(Detection(actor.object_id, actor.label, centre,
-                                    quaternion_from_rpy(actor.roll, actor.pitch, actor.yaw),
-                                    actor.size, abs(actor.speed)))
-        return result

@@ -265,6 +265,25 @@ def test_a_many_class_bag_builds_the_models_it_has_data_for_and_names_the_rest(t
     assert not (out / "FAILED").exists()
 
 
+def test_an_evaluation_of_a_many_class_drive_trains_the_classifiers_on_the_classes_with_models(
+        tmp_path):
+    """The classifiers learn the classes that got a model, so that every method answers among
+    the same classes; the rare ones are left out of both."""
+    common = ["Car", "Pickup_Truck", "Bus"]
+    rare = ["Semi-truck"]
+    bag = many_class_bag(tmp_path / "many.bag", common, rare)
+    out = tmp_path / "evaluation"
+    result = run(tool("granular_tools", "run_evaluation") + [
+        "--train-bag", bag, "--test-bag", bag, "--out", out, "--n-thresh", "10",
+        "--methods", "ndt", "--presets", "tuned", "--supervised", "knn"], timeout=600)
+    assert result.status == 0, str(result)
+    hostile.assert_no_crash(result)
+    assert "class 'Semi-truck' left out" in result.output
+    assert "knn: trained on 18 objects of 3 classes" in result.output, str(result)
+    answers = json.loads((out / "results" / "knn" / "N10.json").read_text())
+    assert {o["predictions"]["label"] for o in answers["objects"]} <= set(common)
+
+
 # --- the nodes at start-up ------------------------------------------------------------------
 
 def node(command, env, timeout=60):

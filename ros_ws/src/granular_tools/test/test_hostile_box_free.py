@@ -137,3 +137,67 @@ def test_online_launch_segmenting_the_hostile_bag_names_a_frame_without_ground(h
     assert result.status == 0, str(result)
     assert_no_crash(result)
     assert "no points, so no ground" in result.output, str(result)
+
+
+# --- a detections document edited by hand into nonsense ---------------------------------------
+
+KITTI_LABELS = tool("granular_tools", "kitti_labels")
+
+
+def edited_frames(frames, target, nan=False):
+    """A copy of `frames` whose last detections document was edited by hand: a box of zero size
+    (id 201), a copy of the first box (its id twice), a label with a newline (id 202) and, with
+    `nan`, a NaN in the first box's orientation (a yaw typed as NaN). Returns (copy, document)."""
+    import copy
+    import shutil
+
+    shutil.copytree(frames, target)
+    path = sorted((target / "detections_3d").glob("[!.]*.json"))[-1]
+    document = json.loads(path.read_text())
+    first = document["detections"][0]
+    zero = copy.deepcopy(first)
+    zero["id"], zero["bbox"]["size"] = 201, {"x": 0.0, "y": 0.0, "z": 0.0}
+    newline = copy.deepcopy(first)
+    newline["id"], newline["label"] = 202, "Sedan\nCar"
+    document["detections"] += [zero, copy.deepcopy(first), newline]
+    if nan:
+        first["bbox"]["position"]["orientation"]["z"] = float("nan")
+    path.write_text(json.dumps(document))  # NaN written as Python writes it: not JSON
+    return target, path
+
+
+def test_a_document_edited_into_nonsense_has_each_box_named_and_the_rest_used(hostile_frames,
+                                                                             tmp_path):
+    frames, document = edited_frames(hostile_frames[1], tmp_path / "frames")
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert f"{document}: detections[1] (id 201, Sedan): box size must be finite and positive" \
+        in result.output, str(result)
+    assert f"{document}: detection id 100 is given to 2 boxes" in result.output
+
+    result = run(FIT_CUBOIDS + ["--frames", frames, "--out", tmp_path / "cuboids", "--boxes",
+                                "detections"] + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert "(id 201, Sedan): box size must be finite and positive" in result.output
+
+    # The KITTI files are whitespace-separated lines: the newline is encoded, in the summary too.
+    result = run(KITTI_LABELS + ["export", frames, "--out", tmp_path / "labels"])
+    assert result.status == 0, str(result)
+    assert "Sedan%0ACar 1" in result.output and "a box with a zero or negative size 1" in \
+        result.output, str(result)
+    lines = (tmp_path / "labels" / f"{document.stem}.txt").read_text().splitlines()
+    assert [line.split(" ")[0] for line in lines] == ["Sedan", "Sedan", "Sedan%0ACar"]
+    assert leftovers(tmp_path) == []
+
+
+def test_a_nan_typed_into_a_document_is_refused_naming_the_file(hostile_frames, tmp_path):
+    frames, document = edited_frames(hostile_frames[1], tmp_path / "frames", nan=True)
+    for command, out in ((EXTRACT + ["--in", frames, "--out"], "objects"),
+                         (FIT_CUBOIDS + SIMULATOR + ["--boxes", "detections", "--frames", frames,
+                                                     "--out"], "cuboids"),
+                         (KITTI_LABELS + ["export", frames, "--out"], "labels")):
+        result = run(command + [tmp_path / out])
+        hostile.assert_fails_clearly(result, 1, document, "not valid JSON")
+        assert not (tmp_path / out).exists()
+    assert leftovers(tmp_path) == []

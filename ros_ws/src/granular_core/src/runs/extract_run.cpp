@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iomanip>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -252,8 +253,17 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     const fs::path json_file = json_folder / (stamp + ".json");
     DetectionsHeader header;
     std::vector<Detection> detections = readDetectionsJson(json_file, &header);
+    std::map<std::int64_t, std::size_t> boxes_of_id;
     for (const Detection& detection : detections) {
       seen_labels.insert(detection.label);
+      ++boxes_of_id[detection.id];
+    }
+    for (const auto& [id, boxes] : boxes_of_id) {
+      if (boxes > 1) {  // a hand edit's copy: the objects keep it, the user must know
+        summary.warnings.push_back(json_file.string() + ": detection id " + std::to_string(id) +
+                                   " is given to " + std::to_string(boxes) +
+                                   " boxes; ids name tracks, which take them for one object");
+      }
     }
     // A box in another frame than the cloud's (the file's header) would be cropped as if it
     // were in the cloud's: refused, both frames named.

@@ -201,3 +201,16 @@ def test_a_nan_typed_into_a_document_is_refused_naming_the_file(hostile_frames, 
         hostile.assert_fails_clearly(result, 1, document, "not valid JSON")
         assert not (tmp_path / out).exists()
     assert leftovers(tmp_path) == []
+
+
+def test_evaluate_cuboids_says_why_it_skipped_true_boxes_of_a_nonsense_document(
+        hostile_frames, tmp_path):
+    """It said only "reasons in summary.json"."""
+    frames, _ = edited_frames(hostile_frames[1], tmp_path / "frames", nan=True)
+    result = run(tool("granular_tools", "evaluate_cuboids") + [
+        "--truth", frames, "--predicted", hostile_frames[1] / "detections_3d", "--out",
+        tmp_path / "report"])
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert "boxes skipped as invalid: 2 true (1 a box with NaN or infinite numbers, 1 a box " \
+           "with a zero or negative size), 0 predicted" in result.output, str(result)

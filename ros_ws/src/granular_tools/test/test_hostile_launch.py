@@ -282,6 +282,8 @@ def test_an_evaluation_of_a_many_class_drive_trains_the_classifiers_on_the_class
     assert "knn: trained on 18 objects of 3 classes" in result.output, str(result)
     answers = json.loads((out / "results" / "knn" / "N10.json").read_text())
     assert {o["predictions"]["label"] for o in answers["objects"]} <= set(common)
+    assert "- Semi-truck: the filters left no points" in \
+        (out / "report" / "index.md").read_text(encoding="utf-8")
 
 
 # --- the nodes at start-up ------------------------------------------------------------------

@@ -125,6 +125,22 @@ def test_run_cuboids_on_the_hostile_bag_ends_with_every_frame_and_the_frames_nam
     assert leftovers(tmp_path) == []
 
 
+def test_cuboids_launch_on_the_hostile_bag_ends_well_naming_the_frames_without_ground(
+        hostile_frames, tmp_path):
+    from test_hostile_launch import LAUNCH, own_master_environment
+
+    bag, _, stamps = hostile_frames
+    out = tmp_path / "run"
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "cuboids.launch", f"bag:={bag}", f"out:={out}"],
+                 env=own_master_environment(), timeout=120)
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert "launch: done (cuboids finished with exit status 0)" in result.output, str(result)
+    assert_names_the_frames_without_ground(result, stamps)
+    assert len(list((out / "cuboids").glob("[!.]*.json"))) == len(stamps)
+    assert leftovers(tmp_path) == []
+
+
 def test_online_launch_segmenting_the_hostile_bag_names_a_frame_without_ground(hostile_frames,
                                                                               drive):
     from test_hostile_launch import LAUNCH, own_master_environment

@@ -230,3 +230,38 @@ def test_evaluate_cuboids_says_why_it_skipped_true_boxes_of_a_nonsense_document(
     assert_no_crash(result)
     assert "boxes skipped as invalid: 2 true (1 a box with NaN or infinite numbers, 1 a box " \
            "with a zero or negative size), 0 predicted" in result.output, str(result)
+
+
+# --- KITTI folders with clouds of no use ---------------------------------------------------------
+
+def test_kitti_velodyne_files_without_a_finite_point_are_named_and_the_rest_converted(
+        kitti_fixture, tmp_path):
+    """An empty velodyne file and one of NaN became frames without a word (fit_cuboids then
+    found no ground in them); a billion-metre point is a point like any other."""
+    import shutil
+
+    folder = tmp_path / "kitti"
+    for sub in ("velodyne", "label_2", "calib"):
+        (folder / sub).mkdir(parents=True)
+        for path in sorted((kitti_fixture / sub).glob("00000[0-3].*")):
+            shutil.copy(path, folder / sub / path.name)
+    velodyne = folder / "velodyne"
+    (velodyne / "000001.bin").write_bytes(b"")
+    np.full((100, 4), np.nan, np.float32).tofile(velodyne / "000002.bin")
+    far = np.fromfile(velodyne / "000003.bin", np.float32).reshape(-1, 4)
+    far[0, :3] = (1e9, 0.0, 0.0)
+    far.tofile(velodyne / "000003.bin")
+    result = run(tool("granular_tools", "kitti_to_bag") + [folder, "--out", tmp_path / "k.bag"])
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert f"warning: {velodyne / '000001.bin'}: no points" in result.output
+    assert f"warning: {velodyne / '000002.bin'}: all 100 points are NaN or infinite" in \
+        result.output
+    assert "000003.bin" not in result.output and "4 frames" in result.output
+    frames = tmp_path / "frames"
+    assert run(BAG_TO_FILES + ["--bag", tmp_path / "k.bag", "--out", frames,
+                               "--quiet"]).status == 0
+    result = run(FIT_CUBOIDS + ["--frames", frames, "--out", tmp_path / "cuboids"])
+    assert result.status == 0, str(result)
+    assert "frames without ground (2)" in result.output, str(result)
+    assert len(list((tmp_path / "cuboids").glob("[!.]*.json"))) == 4

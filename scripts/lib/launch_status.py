@@ -36,8 +36,11 @@ def launch_files(arguments):
     """The launch files roslaunch would run for `arguments` (roslaunch's own resolution); none
     when it cannot tell, so that roslaunch reports what is wrong."""
     try:
+        import roslaunch
         from roslaunch import rlutil
-        return [path for path in rlutil.resolve_launch_arguments(arguments)
+        # roslaunch's own options first (--screen, -p PORT, ...), as roslaunch parses them.
+        _, positional = roslaunch._get_optparse().parse_args(list(arguments))
+        return [path for path in rlutil.resolve_launch_arguments(positional)
                 if os.path.isfile(path)]
     except Exception:  # noqa: BLE001 - roslaunch names the problem itself
         return []

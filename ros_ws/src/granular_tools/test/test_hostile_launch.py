@@ -114,10 +114,12 @@ def test_the_launch_entry_point_returns_the_failing_stages_status_and_marks_the_
     assert "launch: required node pipeline failed with exit status 2" in result.output
 
 
-def test_a_misspelt_launch_argument_is_refused_naming_the_closest_declared_one(tmp_path):
+@pytest.mark.parametrize("options", [[], ["--screen", "-p", "11999"]], ids=["", "options"])
+def test_a_misspelt_launch_argument_is_refused_naming_the_closest_declared_one(tmp_path,
+                                                                            options):
     """roslaunch ignores an argument its file does not declare: the run went on with the
     default sensor height."""
-    result = run(LAUNCH + [REPO_ROOT / "launch" / "cuboids.launch", "bag:=test.bag",
+    result = run(LAUNCH + options + [REPO_ROOT / "launch" / "cuboids.launch", "bag:=test.bag",
                            f"out:={tmp_path / 'c'}", "boxes:=segment", "sensor_hieght:=1.73"],
                  cwd=tmp_path, env=own_master_environment())
     assert_fails_clearly(result, 2, "cuboids.launch takes no argument 'sensor_hieght'",

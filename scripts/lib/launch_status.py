@@ -77,19 +77,18 @@ def check_arguments(arguments):
 
 
 def named_folders(arguments):
-    """The folders an argument's value names (OUT) and the folders holding those named paths:
-    where a run's staging folders are built."""
-    folders = set()
+    """Where a run's staging is built, as {folder: how many levels below it to search}: each
+    folder an argument's value names (OUT, searched STAGING_DEPTH deep) and the folder holding
+    each named path (only its own entries: OUT's staging is OUT's sibling)."""
+    folders = {}
     for argument in arguments:
-        if ":=" not in argument:
-            continue
-        value = argument.split(":=", 1)[1]
+        value = argument.split(":=", 1)[1] if ":=" in argument else ""
         if not value:
             continue
         path = os.path.abspath(value)
-        folders.add(os.path.dirname(path))
+        folders.setdefault(os.path.dirname(path), 0)
         if os.path.isdir(path):
-            folders.add(path)
+            folders[path] = STAGING_DEPTH
     return folders
 
 
@@ -107,12 +106,13 @@ def remove_staging(arguments, since):
     """Remove the staging folders and files that a process of this run, now dead, left under
     the folders its arguments name (made since `since`, by a process no longer alive)."""
     removed = []
-    for root in named_folders(arguments):
+    for root, depth in named_folders(arguments).items():
         base_depth = root.rstrip(os.sep).count(os.sep)
         for folder, subfolders, files in os.walk(root):
-            if folder.count(os.sep) - base_depth >= STAGING_DEPTH:
-                subfolders[:] = []
-            for name in list(subfolders) + files:
+            names = subfolders + files
+            if folder.rstrip(os.sep).count(os.sep) - base_depth >= depth:
+                subfolders[:] = []  # its own entries only
+            for name in names:
                 match = STAGING.match(name)
                 path = os.path.join(folder, name)
                 if not match or alive(int(match.group("pid"))):
@@ -122,11 +122,12 @@ def remove_staging(arguments, since):
                         continue
                     if os.path.isdir(path) and not os.path.islink(path):
                         shutil.rmtree(path)
-                        subfolders.remove(name)
                     else:
                         os.remove(path)
-                except (FileNotFoundError, ValueError):
-                    continue
+                except OSError:
+                    continue  # gone meanwhile, or not ours to remove: the next run clears it
+                if name in subfolders:
+                    subfolders.remove(name)
                 removed.append(path)
     return removed
 

@@ -127,6 +127,27 @@ def test_a_misspelt_launch_argument_is_refused_naming_the_closest_declared_one(t
     assert "roslaunch" not in result.output and list(tmp_path.iterdir()) == []
 
 
+def test_the_staging_an_interrupted_launch_removes_is_only_its_own_dead_runs(tmp_path):
+    """After a signal, scripts/launch removes the staging its stopped run left under the folders
+    its arguments name; never a live run's, an older one's, or a user's file."""
+    import sys
+    sys.path.insert(0, str(REPO_ROOT / "scripts" / "lib"))
+    import launch_status
+
+    out = tmp_path / "out"
+    dead = [tmp_path / ".out.partial-999999", out / "models" / ".pictures.partial-999998"]
+    kept = [tmp_path / f".out.partial-{os.getpid()}", out / "notes.partial-1.txt",
+            tmp_path / "elsewhere" / ".x.partial-999997"]
+    for path in dead + kept:
+        path.mkdir(parents=True)
+    older = out / ".frames.partial-999996"
+    older.mkdir()
+    os.utime(older, (time.time() - 3600, time.time() - 3600))
+    removed = launch_status.remove_staging(["x.launch", f"out:={out}"], time.time() - 60)
+    assert sorted(removed) == sorted(map(str, dead))
+    assert all(path.exists() for path in kept + [older])
+
+
 def processes_naming(text):
     """The processes whose command line holds `text`."""
     found = []

@@ -9,7 +9,7 @@ namespace {
 
 using Colour = std::array<float, 3>;
 
-// The palette of granular_tools/visualization/markers.py, so both views agree.
+// The palette of granular_tools/visualization/detection_markers.py, so both views agree.
 const std::map<std::string, Colour>& palette() {
   static const std::map<std::string, Colour> colours = {
       {"Sedan", {0.2f, 0.6f, 1.0f}},      {"SUV", {0.3f, 0.9f, 0.3f}},

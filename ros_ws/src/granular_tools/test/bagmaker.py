@@ -5,9 +5,7 @@ import rosbag
 from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import Header
 
-from granular_tools.simulation import recorder
-from granular_tools.simulation.lidar import Returns
-from granular_tools.simulation.scene import Detection
+from granular_tools.messages import LabelledBox, cloud_message, detections_message, ros_time
 
 CLOUD_TOPIC = "/simulator/lidar"
 DETECTIONS_TOPIC = "/simulator/ground_truth/3d_detections"
@@ -15,13 +13,13 @@ START = 1586102742.0
 
 
 def stamp(t):
-    return recorder.ros_time(START, t)
+    return ros_time(START, t)
 
 
 def cloud(t, points=None, seq=0):
     points = np.array([[1.0, 2.0, -2.3], [5.0, -1.0, 0.5]]) if points is None else points
-    returns = Returns(np.asarray(points, float), np.arange(len(points), dtype=np.uint8))
-    return recorder.cloud_message(returns, stamp(t), "velodyne", seq)
+    return cloud_message(np.asarray(points, float), np.arange(len(points), dtype=np.uint8),
+                         stamp(t), "velodyne", seq)
 
 
 def cloud_without_xyz(t):
@@ -54,9 +52,9 @@ def velodyne_cloud(t, points):
 
 
 def detections(t, labels=("Sedan",), seq=0):
-    boxes = [Detection(100 + i, label, np.array([5.0 + i, -1.0, -1.5]), (0.0, 0.0, 0.0, 1.0),
-                       np.array([4.5, 1.8, 1.4]), 3.0) for i, label in enumerate(labels)]
-    return recorder.detections_message(boxes, stamp(t), "velodyne", seq)
+    boxes = [LabelledBox(100 + i, label, np.array([5.0 + i, -1.0, -1.5]), (0.0, 0.0, 0.0, 1.0),
+                         np.array([4.5, 1.8, 1.4]), 3.0) for i, label in enumerate(labels)]
+    return detections_message(boxes, stamp(t), "velodyne", seq)
 
 
 def write(path, messages, stamp=None):

@@ -14,7 +14,7 @@ import time
 
 import pytest
 
-from granular_tools.stages import without_rosrun
+from granular_tools.runners.stages import without_rosrun
 
 # Signs that a tool fell over instead of reporting: Python and C++ crash output.
 CRASH_SIGNS = ("Traceback (most recent call last)", "terminate called", "Segmentation fault",

@@ -8,7 +8,7 @@ import pytest
 import bagmaker
 from bagmaker import CLOUD_TOPIC, DETECTIONS_TOPIC
 from granular_tools.bag_to_files import offline
-from granular_tools.bag_to_files.frames import stamp_name
+from granular_tools.frames_folder import stamp_name
 from granular_tools.simulation import cli as simulate
 
 
@@ -174,8 +174,7 @@ def test_unreadable_bag_and_bad_slop_are_errors(tmp_path, capsys):
 
 
 def test_pcd_and_json_read_back_into_the_messages_they_came_from(tmp_path):
-    from granular_tools.bag_to_files.frames import dict_to_detections
-    from granular_tools.bag_to_files.pcd import pcd_to_cloud
+    from granular_tools.messages import dict_to_detections, pcd_to_cloud
 
     cloud = bagmaker.cloud(0.0, np.array([[1.0, 2.0, 3.0], [-4.5, 0.25, -2.3]]))
     detections = bagmaker.detections(0.002, ("Sedan", "SchoolBus"))

@@ -9,8 +9,10 @@ import sys
 import numpy as np
 import pytest
 
-from granular_tools.evaluation import cuboid_matching, cuboids, geometry
-from granular_tools.evaluation.geometry import from_yaw
+from granular_tools import geometry
+from granular_tools.evaluation import cuboid_matching, cuboids
+from granular_tools.frames_folder import Detection
+from granular_tools.geometry import from_yaw
 
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "scripts" / "evaluate_cuboids"
 STAMP, OTHER_STAMP = "1586102742099223854", "1586102742299319911"
@@ -139,10 +141,10 @@ def test_a_prediction_nearest_to_two_truths_goes_to_one_only(tmp_path):
 
 
 def test_the_assignment_minimises_the_total_distance_not_each_greedily():
-    truths = [cuboid_matching.Detection(i, "Car", 1.0, square(x=x)) for i, x in ((1, 0.0), (2, 1.2))]
+    truths = [Detection(i, "Car", 1.0, square(x=x)) for i, x in ((1, 0.0), (2, 1.2))]
     # Prediction 0 is nearest to both truths; greedy would give it truth 2 (0.5 m) and leave
     # prediction 1 at 1.9 m from truth 1. Hungarian: 0.7 + 0.7.
-    predictions = [cuboid_matching.Detection(i, "Car", 1.0, square(x=x)) for i, x in ((7, 0.7),
+    predictions = [Detection(i, "Car", 1.0, square(x=x)) for i, x in ((7, 0.7),
                                                                                 (8, 1.9))]
     assert sorted(cuboid_matching.match(truths, predictions, gate=2.0)) == [(0, 0), (1, 1)]
     # Beyond the gate, never.

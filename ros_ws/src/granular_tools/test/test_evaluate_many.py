@@ -6,7 +6,7 @@ import pytest
 
 import hostile
 from granular_tools.evaluation.instances import mean_interval
-from granular_tools.evaluation.many import check_seeds, parse_pairs, train_seeds
+from granular_tools.runners.many import check_seeds, parse_pairs, train_seeds
 
 EVALUATE_MANY = hostile.tool("granular_tools", "evaluate_many")
 

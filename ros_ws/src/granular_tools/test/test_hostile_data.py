@@ -15,8 +15,7 @@ from bagmaker import CLOUD_TOPIC, DETECTIONS_TOPIC
 from hostile import (assert_fails_clearly, assert_no_crash, leftovers, run, EXTRACT, BUILD_MODELS,
                      TRAIN, CLASSIFY_REGISTRATION, CLASSIFY_SUPERVISED, BAG_TO_FILES, SIMULATE,
                      MAKE_REPORT)
-from granular_tools.simulation import recorder
-from granular_tools.simulation.scene import Detection
+from granular_tools.messages import POINT_DTYPE, LabelledBox, cloud_message, detections_message
 
 
 # Labels as real datasets and users write them (PandaSet's, and typed ones).
@@ -30,7 +29,7 @@ def boxes_and_points(labels, rng):
     for index, label in enumerate(labels):
         centre = np.array([12.0, 6.0 * (index - len(labels) / 2.0), -0.8])
         size = np.array([4.0, 1.8, 1.5])
-        detections.append(Detection(200 + index, label, centre, (0.0, 0.0, 0.0, 1.0), size, 0.0))
+        detections.append(LabelledBox(200 + index, label, centre, (0.0, 0.0, 0.0, 1.0), size))
         local = rng.uniform(-0.5, 0.5, size=(150, 3)) * size * 0.95
         points.append(centre + local)
     return detections, np.vstack(points)
@@ -44,7 +43,7 @@ def free_text_bag(path, labels=FREE_TEXT_LABELS, frames=6):
         stamp = bagmaker.stamp(0.1 * frame)
         messages.append((CLOUD_TOPIC, bagmaker.cloud(0.1 * frame, points, frame)))
         messages.append((DETECTIONS_TOPIC,
-                         recorder.detections_message(detections, stamp, "velodyne", frame)))
+                         detections_message(detections, stamp, "velodyne", frame)))
     return bagmaker.write(path, messages)
 
 
@@ -121,10 +120,10 @@ def test_free_text_labels_survive_classification_and_the_report(free_text, tmp_p
 
 def test_free_text_labels_are_drawn_as_given_in_the_rviz_markers():
     import rospy
-    from granular_tools.visualization.markers import detection_markers
+    from granular_tools.visualization.detection_markers import detection_markers
 
     detections, _ = boxes_and_points(FREE_TEXT_LABELS, np.random.default_rng(1))
-    message = recorder.detections_message(detections, bagmaker.stamp(0.0), "velodyne", 0)
+    message = detections_message(detections, bagmaker.stamp(0.0), "velodyne", 0)
     markers = detection_markers(message, rospy.Duration(0.5))
     texts = [m.text for m in markers.markers if m.text]
     assert [t.rsplit(" ", 1)[0] for t in texts] == FREE_TEXT_LABELS
@@ -381,16 +380,14 @@ def test_a_voxel_leaf_too_small_for_pcl_is_refused_not_skipped(drive, tmp_path):
 def sparse_objects_folder(folder):
     """An objects folder with a class whose points lie a metre apart: the radius filter keeps
     none of them (a sparse real Bus)."""
-    from granular_tools.simulation.lidar import Returns
-
     folder.mkdir()
     points = np.array([[x, 0.0, 1.0] for x in range(-5, 6)], float)
-    returns = Returns(points, np.zeros(len(points), np.uint8))
-    message = recorder.cloud_message(returns, bagmaker.stamp(0.0), "object", 0)
+    message = cloud_message(points, np.zeros(len(points), np.uint8), bagmaker.stamp(0.0),
+                                     "object", 0)
     header = ("# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity timestamp\nSIZE 4 4 4 1 8\n"
               "TYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\n"
               "POINTS {n}\nDATA binary\n").format(n=len(points))
-    record = np.frombuffer(message.data, dtype=recorder.POINT_DTYPE)
+    record = np.frombuffer(message.data, dtype=POINT_DTYPE)
     packed = np.zeros(len(record), dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"),
                                           ("intensity", "u1"), ("timestamp", "<f8")])
     for name in packed.dtype.names:

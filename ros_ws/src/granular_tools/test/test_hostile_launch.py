@@ -233,8 +233,7 @@ def many_class_bag(path, common, rare, frames=6):
     apart along its length (a sparse semi-truck, a tram seen once), which the filters empty."""
     import numpy as np
     import bagmaker
-    from granular_tools.simulation import recorder
-    from granular_tools.simulation.scene import Detection
+    from granular_tools.messages import LabelledBox, detections_message
 
     rng = np.random.default_rng(7)
     labels = list(common) + list(rare)
@@ -246,8 +245,8 @@ def many_class_bag(path, common, rare, frames=6):
                 continue
             centre = np.array([14.0, 6.0 * (index - len(labels) / 2.0), -0.8])
             size = np.array([4.0, 1.8, 1.5]) if label in common else np.array([9.0, 2.5, 1.5])
-            detections.append(Detection(300 + index, label, centre, (0.0, 0.0, 0.0, 1.0), size,
-                                        0.0))
+            detections.append(LabelledBox(300 + index, label, centre, (0.0, 0.0, 0.0, 1.0),
+                                          size))
             if label in common:
                 points.append(centre + rng.uniform(-0.5, 0.5, size=(150, 3)) * size * 0.95)
             else:
@@ -258,7 +257,7 @@ def many_class_bag(path, common, rare, frames=6):
         messages.append((bagmaker.CLOUD_TOPIC, bagmaker.cloud(0.1 * frame, np.vstack(points),
                                                               frame)))
         messages.append((bagmaker.DETECTIONS_TOPIC,
-                         recorder.detections_message(detections, stamp, "velodyne", frame)))
+                         detections_message(detections, stamp, "velodyne", frame)))
     return bagmaker.write(path, messages)
 
 

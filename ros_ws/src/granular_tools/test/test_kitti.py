@@ -13,8 +13,9 @@ import pytest
 import rosbag
 
 from granular_tools import kitti
-from granular_tools.bag_summary import cloud_xyz, points_in_box
 from granular_tools.bag_to_files import offline
+from granular_tools.geometry import count_points_inside, quaternion_from_matrix, rotation_matrix
+from granular_tools.messages import cloud_xyz, detection_cuboid
 
 SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "scripts" / "kitti_to_bag"
 START = 1586102742.0
@@ -78,7 +79,8 @@ def test_every_labelled_box_in_the_bag_holds_exactly_the_oracles_points(kitti_ba
         assert cloud.header.stamp == detections.header.stamp
         xyz = cloud_xyz(cloud)
         for detection in detections.detections:
-            counted[detection.id] = (detection.label, points_in_box(xyz, detection))
+            counted[detection.id] = (detection.label,
+                                     count_points_inside(xyz, detection_cuboid(detection)))
     assert counted == EXPECTED
 
 
@@ -131,7 +133,7 @@ def test_bag_has_the_simulators_layout_stamps_and_points(kitti_bag, kitti_fixtur
 
 
 def kitti_point_dtype():
-    from granular_tools.simulation.recorder import POINT_DTYPE
+    from granular_tools.messages import POINT_DTYPE
     return POINT_DTYPE
 
 
@@ -241,9 +243,9 @@ def test_quaternions_round_trip_through_half_turns_and_small_angles():
     for rotation in rotations:
         if np.linalg.det(rotation) < 0:
             continue
-        quaternion = kitti.quaternion_from_matrix(rotation)
+        quaternion = quaternion_from_matrix(rotation)
         assert quaternion[3] >= 0.0
-        np.testing.assert_allclose(kitti.matrix_from_quaternion(quaternion), rotation,
+        np.testing.assert_allclose(rotation_matrix(quaternion), rotation,
                                    atol=1e-12)
 
 

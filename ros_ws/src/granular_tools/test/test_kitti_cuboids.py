@@ -6,7 +6,7 @@ import pathlib
 import subprocess
 
 from granular_tools.evaluation import cuboids as evaluate_cuboids
-from granular_tools.stages import without_rosrun
+from granular_tools.runners.stages import without_rosrun
 
 REPO_ROOT = pathlib.Path(__file__).resolve().parents[4]
 FIT_CUBOIDS = without_rosrun(["rosrun", "granular_ros", "fit_cuboids"])

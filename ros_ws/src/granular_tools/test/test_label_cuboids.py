@@ -10,7 +10,7 @@ import pytest
 import bagmaker
 import hostile
 from bagmaker import CLOUD_TOPIC
-from granular_tools.evaluation.geometry import Cuboid
+from granular_tools.geometry import Cuboid
 from granular_tools.labelling.node import _prepare_frames, frame_index
 from granular_tools.labelling.session import Session, SessionError
 from granular_tools.output import OutputError

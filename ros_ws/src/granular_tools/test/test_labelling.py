@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from granular_tools.config_loading import ConfigError
-from granular_tools.evaluation.geometry import Cuboid, rotation_matrix
+from granular_tools.geometry import Cuboid, rotation_matrix
 from granular_tools.labelling import boxes
 from granular_tools.labelling.config import LabellingConfig, load_config
 from granular_tools.labelling.document import FrameLabels, detection_spans, read_document

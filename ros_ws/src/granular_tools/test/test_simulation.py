@@ -7,6 +7,7 @@ import pytest
 import rosbag
 
 from granular_tools.config_loading import ConfigError, load_yaml_over
+from granular_tools.messages import POINT_DTYPE
 from granular_tools.simulation import cli, meshes, recorder
 from granular_tools.simulation.config import SimulatorConfig
 from granular_tools.simulation.drive import Drive
@@ -62,7 +63,7 @@ def read_bag(path):
 
 
 def cloud_points(message):
-    dtype = recorder.POINT_DTYPE
+    dtype = POINT_DTYPE
     assert message.point_step == dtype.itemsize
     return np.frombuffer(message.data, dtype=dtype, count=message.width)
 

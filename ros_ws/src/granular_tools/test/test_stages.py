@@ -2,7 +2,7 @@
 executable rosrun would run."""
 import subprocess
 
-from granular_tools.stages import without_rosrun
+from granular_tools.runners.stages import without_rosrun
 
 
 def test_a_tool_runs_from_the_path_rosrun_would_find():

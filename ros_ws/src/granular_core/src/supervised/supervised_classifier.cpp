@@ -19,7 +19,7 @@
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/parallel.h"
-#include "granular_core/registration/inlier_shares.h"
+#include "granular_core/search/inlier_shares.h"
 #include "granular_core/supervised/knn_predictor.h"
 #include "granular_core/supervised/rbf_svm.h"
 

@@ -9,33 +9,11 @@ import numpy as np
 THRESHOLDS = (10, 50, 100, 300, 500)  # the report's N_thresh test sets
 
 
-def cloud_xyz(message):
-    """x, y, z of a PointCloud2 as float64 (N, 3), whatever the field offsets."""
-    offsets = {field.name: field.offset for field in message.fields}
-    missing = [axis for axis in "xyz" if axis not in offsets]
-    if missing:
-        raise ValueError(f"cloud has no field(s) {', '.join(missing)}")
-    dtype = np.dtype({"names": list("xyz"), "formats": ["<f4"] * 3,
-                      "offsets": [offsets[a] for a in "xyz"], "itemsize": message.point_step})
-    points = np.frombuffer(message.data, dtype=dtype, count=message.width * message.height)
-    return np.stack([points[a] for a in "xyz"], axis=1).astype(float)
-
-
-def points_in_box(xyz, detection):
-    """How many points lie inside a detection's oriented box."""
-    q = detection.bbox.position.orientation
-    x, y, z, w = q.x, q.y, q.z, q.w
-    rotation = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                         [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-    p = detection.bbox.position.position
-    local = (xyz - np.array([p.x, p.y, p.z])) @ rotation
-    half = np.array([detection.bbox.size.x, detection.bbox.size.y, detection.bbox.size.z]) / 2
-    return int(np.count_nonzero(np.all(np.abs(local) <= half, axis=1)))
-
-
 def summarize(path, cloud_topic, detections_topic, slop, out=sys.stdout):
-    from .bags import open_bag  # Imported here so that --help works without ROS on the path.
+    # Imported here so that --help works without ROS on the path.
+    from .bags import open_bag
+    from .geometry import count_points_inside
+    from .messages import cloud_xyz, detection_cuboid
 
     with open_bag(path) as bag:
         info = bag.get_type_and_topic_info()
@@ -73,7 +51,8 @@ def summarize(path, cloud_topic, detections_topic, slop, out=sys.stdout):
                 continue
             paired += 1
             for detection in detection_messages[nearest].detections:
-                box_points[detection.label].append(points_in_box(xyz, detection))
+                box_points[detection.label].append(
+                    count_points_inside(xyz, detection_cuboid(detection)))
 
     counts = np.array(points_per_cloud)
     print(f"clouds: {len(counts)}, frame {', '.join(sorted(frame_ids))}, points per cloud "

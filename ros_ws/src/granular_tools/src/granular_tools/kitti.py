@@ -24,6 +24,7 @@ from typing import Optional
 
 import numpy as np
 
+from .geometry import quaternion_from_matrix, rotation_matrix
 from .output import check_output_apart, run_main, written_atomically
 
 VELODYNE, LABELS, CALIB, PLANES = "velodyne", "label_2", "calib", "planes"
@@ -136,31 +137,6 @@ def read_calib(path):
     return Calibration(matrices["P2"], matrices["R0_rect"], matrices["Tr_velo_to_cam"])
 
 
-def quaternion_from_matrix(rotation):
-    """(x, y, z, w), w >= 0, of a rotation matrix (Shepperd's method: stable for every angle)."""
-    m = np.asarray(rotation, float)
-    trace = np.trace(m)
-    if trace > max(m[0, 0], m[1, 1], m[2, 2]):
-        s = 2.0 * math.sqrt(1.0 + trace)
-        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
-    else:
-        i = int(np.argmax(np.diag(m)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2.0 * math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
-        q = [0.0] * 4
-        q[i], q[j], q[k] = s / 4, (m[j, i] + m[i, j]) / s, (m[k, i] + m[i, k]) / s
-        q[3] = (m[k, j] - m[j, k]) / s
-    q = np.array(q) / np.linalg.norm(q)
-    return tuple(float(v) for v in (-q if q[3] < 0.0 else q))
-
-
-def matrix_from_quaternion(quaternion):
-    x, y, z, w = np.asarray(quaternion, float) / np.linalg.norm(quaternion)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
 # ---------------------------------------------------------------------------------------------
 # Clouds, labels, boxes, planes
 
@@ -257,7 +233,8 @@ class Box:
 
     @classmethod
     def from_pose(cls, centre, quaternion, size):
-        return cls(np.asarray(centre, float), matrix_from_quaternion(quaternion), tuple(size))
+        unit = np.asarray(quaternion, float) / np.linalg.norm(quaternion)
+        return cls(np.asarray(centre, float), rotation_matrix(unit), tuple(size))
 
 
 def _axes_in_rect(rotation_y):
@@ -455,9 +432,7 @@ def write_bag(folder, frames, path, start_time, frame_id, boxes=True, progress=N
     appears under `path` only when complete. Returns ({label: boxes written}, [a line for each
     velodyne file without a finite point, which the box-free tools find no ground in])."""
     import rosbag  # ROS imports only once the input is known good.
-    from .simulation.lidar import Returns
-    from .simulation.recorder import cloud_message, detections_message, ros_time
-    from .simulation.scene import Detection
+    from .messages import LabelledBox, cloud_message, detections_message, ros_time
 
     counts, pointless = {}, []
     with written_atomically(path, "bag") as partial:
@@ -470,11 +445,10 @@ def write_bag(folder, frames, path, start_time, frame_id, boxes=True, progress=N
                     if not np.isfinite(points[:, :3]).all(axis=1).any():
                         pointless.append(f"{cloud}: no points" if len(points) == 0 else
                                          f"{cloud}: all {len(points)} points are NaN or infinite")
-                    returns = Returns(points[:, :3], intensity_of(points[:, 3]))
-                    bag.write(CLOUD_TOPIC, cloud_message(returns, stamp, frame_id, k), stamp)
+                    bag.write(CLOUD_TOPIC, cloud_message(points[:, :3], intensity_of(points[:, 3]),
+                                                         stamp, frame_id, k), stamp)
                     if boxes:
-                        detections = [Detection(i, label, box.centre, box.quaternion,
-                                                np.asarray(box.size), 0.0)
+                        detections = [LabelledBox(i, label, box.centre, box.quaternion, box.size)
                                       for i, label, box in frame.boxes]
                         bag.write(DETECTIONS_TOPIC,
                                   detections_message(detections, stamp, frame_id, k), stamp)

@@ -51,6 +51,14 @@ def absolute(path):
     return os.path.normpath(os.path.abspath(path))
 
 
+def resolve(path, relative_to=None):
+    """`path` made absolute against `relative_to` (the folder the user ran roslaunch from,
+    which launch files pass) or the working directory."""
+    if path is None or os.path.isabs(path):
+        return path
+    return os.path.normpath(os.path.join(relative_to or os.getcwd(), path))
+
+
 def temporary_sibling(path, kind):
     path = absolute(path)
     return os.path.join(os.path.dirname(path), f".{os.path.basename(path)}.{kind}-{os.getpid()}")

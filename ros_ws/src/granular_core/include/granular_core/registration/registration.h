@@ -12,7 +12,7 @@
 
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/point_types.h"
-#include "granular_core/registration/inlier_shares.h"
+#include "granular_core/search/inlier_shares.h"
 #include "granular_core/registration/registration_config.h"
 #include "granular_core/search/nearest_tree.h"
 

@@ -12,7 +12,7 @@
 
 #include "granular_core/config/fields.h"
 #include "granular_core/point_types.h"
-#include "granular_core/registration/inlier_shares.h"
+#include "granular_core/search/inlier_shares.h"
 
 namespace granular {
 

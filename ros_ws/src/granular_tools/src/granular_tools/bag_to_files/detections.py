@@ -9,6 +9,8 @@ import numpy as np
 from geometry_msgs.msg import Point, Pose, Quaternion
 from lgsvl_msgs.msg import Detection3DArray
 
+from ..geometry import quaternion_multiply, rotate
+
 
 def _finite(detection):
     pose, size = detection.bbox.position, detection.bbox.size
@@ -18,30 +20,16 @@ def _finite(detection):
     return all(math.isfinite(n) for n in numbers)
 
 
-def _quaternion_multiply(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz)
-
-
-def _rotate(q, v):
-    x, y, z, w = q
-    u = np.array([x, y, z])
-    v = np.asarray(v, float)
-    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
-
-
 def transform_pose(transform, pose):
     """`pose` moved by a geometry_msgs/Transform (the child frame's pose into the parent's)."""
     r = transform.rotation
     q = (r.x, r.y, r.z, r.w)
     p = pose.position
-    moved = _rotate(q, (p.x, p.y, p.z)) + np.array([transform.translation.x,
+    moved = rotate(q, (p.x, p.y, p.z)) + np.array([transform.translation.x,
                                                      transform.translation.y,
                                                      transform.translation.z])
     o = pose.orientation
-    x, y, z, w = _quaternion_multiply(q, (o.x, o.y, o.z, o.w))
+    x, y, z, w = quaternion_multiply(q, (o.x, o.y, o.z, o.w))
     return Pose(Point(*moved), Quaternion(x, y, z, w))
 
 

@@ -6,13 +6,13 @@ import tf2_ros
 from lgsvl_msgs.msg import Detection3DArray
 from sensor_msgs.msg import PointCloud2
 
-from .config import BagToFilesConfig
 from ..nodes import init_node
 from ..output import OutputError, claimed_folder
+from ..pcd import CloudError
+from .config import BagToFilesConfig
 from .detections import DetectionCleaner
-from .frames import PairWriter, prepare_output
 from .pairing import CloudsOnly, Pairing
-from .pcd import CloudError
+from .writer import PairWriter, prepare_output
 
 SILENCE_WARNING_AFTER = 5.0  # s without a message on a topic before a warning
 TF_WAIT = 0.05  # s a detection waits for its frame's transform before it is skipped

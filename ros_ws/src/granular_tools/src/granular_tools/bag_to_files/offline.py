@@ -10,12 +10,12 @@ from std_msgs.msg import Header
 from .. import progress
 from ..bags import READ_ERRORS, BagError, open_bag
 from ..config_loading import ConfigError, load_yaml_over
-from .config import BagToFilesConfig
 from ..output import OutputError, OutputFolder, run_main
+from ..pcd import CloudError
+from .config import BagToFilesConfig
 from .detections import DetectionCleaner, bag_transforms
-from .frames import PairWriter, prepare_output
 from .pairing import CloudsOnly, Pairing, allow_without_node
-from .pcd import CloudError
+from .writer import PairWriter, prepare_output
 
 
 class StampedRaw:

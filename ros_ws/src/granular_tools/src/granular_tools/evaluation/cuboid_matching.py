@@ -1,23 +1,24 @@
-"""Predicted cuboids against true ones, frame by frame: reading the detections, one-to-one
-matching (a Hungarian assignment on the x-y centre distance, gated), the errors of each pair
-and the precision, recall and F1 under each criterion. evaluate_cuboids (cuboids.py) writes
-the report. (Over 400 lines: the reading, the matching and the tally share their types.)"""
+"""Predicted cuboids against true ones, frame by frame: one-to-one matching (a Hungarian
+assignment on the x-y centre distance, gated), the errors of each pair and the precision,
+recall and F1 under each criterion. The detections are read by frames_folder; evaluate_cuboids
+(cuboids.py) writes the report. (Over 400 lines: the matching, the filters and the tally share
+their types.)"""
 import collections
 import dataclasses
-import json
 import math
 import os
 
 import numpy as np
 import yaml
 
-from ..bag_to_files.pcd import read_pcd
+from ..frames_folder import (CLOUDS_FOLDER, DETECTIONS_FOLDER, detections_folder, frame_files,
+                             load_detections)
+from ..geometry import bev_iou, count_points_inside, iou_3d, yaw_difference_deg
 from ..labels import UNKNOWN
 from ..output import absolute
-from .geometry import Cuboid, bev_iou, count_points_inside, iou_3d, yaw_difference_deg
+from ..pcd import read_pcd
 
 TOOL = "evaluate_cuboids"
-DETECTIONS_FOLDER, CLOUDS_FOLDER = "detections_3d", "pcd"
 GATE_M = 2.0
 CENTRE_TOLERANCE_M = 0.5  # the paper's SSE < 0.25 m^2 on x, y, z
 YAW_TOLERANCE_DEG = 10.0
@@ -47,101 +48,7 @@ class UsageError(CuboidError):
     status = 2
 
 
-@dataclasses.dataclass
-class Detection:
-    id: object
-    label: str
-    score: float
-    box: Cuboid
-
-
 # ---------------------------------------------------------------------------- input
-
-def detections_folder(path, role):
-    """(folder of <stamp>.json, folder of <stamp>.pcd or None) for a frames or JSON folder."""
-    if not os.path.isdir(path):
-        raise CuboidError(f"{path}: {role} folder does not exist" if not os.path.exists(path)
-                          else f"{path}: {role} is not a folder")
-    inner = os.path.join(path, DETECTIONS_FOLDER)
-    if os.path.isdir(inner):
-        clouds = os.path.join(path, CLOUDS_FOLDER)
-        return inner, clouds if os.path.isdir(clouds) else None
-    return path, None
-
-
-def frame_files(folder):
-    """{stamp: path} of the folder's <stamp>.json; hidden files (the manifest) are not frames."""
-    return {name[:-5]: os.path.join(folder, name) for name in sorted(os.listdir(folder))
-            if name.endswith(".json") and not name.startswith(".")}
-
-
-def _number(mapping, key, where):
-    if key not in mapping:
-        raise CuboidError(f"{where}.{key}: missing")
-    value = mapping[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise CuboidError(f"{where}.{key}: expected a number, got {value!r}")
-    return float(value)
-
-
-def _section(mapping, key, where):
-    if not isinstance(mapping, dict) or not isinstance(mapping.get(key), dict):
-        raise CuboidError(f"{where}.{key}: missing or not an object")
-    return mapping[key]
-
-
-def parse_detection(entry, where):
-    """(Detection, None) or (None, why it is skipped); raises CuboidError on a malformed one."""
-    bbox = _section(entry, "bbox", where)
-    pose = _section(bbox, "position", f"{where}.bbox")
-    position = _section(pose, "position", f"{where}.bbox.position")
-    orientation = _section(pose, "orientation", f"{where}.bbox.position")
-    size = _section(bbox, "size", f"{where}.bbox")
-    centre = tuple(_number(position, a, f"{where}.bbox.position.position") for a in "xyz")
-    quaternion = tuple(_number(orientation, a, f"{where}.bbox.position.orientation")
-                       for a in "xyzw")
-    extent = tuple(_number(size, a, f"{where}.bbox.size") for a in "xyz")
-    label = entry.get("label", "")
-    if not isinstance(label, str):
-        raise CuboidError(f"{where}.label: expected a string, got {label!r}")
-    score = entry.get("score", 1.0)
-    score = float(score) if isinstance(score, (int, float)) and not isinstance(score, bool) \
-        else None
-    if not all(math.isfinite(v) for v in centre + quaternion + extent):
-        return None, "a box with NaN or infinite numbers"
-    if min(extent) <= 0:
-        return None, "a box with a zero or negative size"
-    norm = math.sqrt(sum(v * v for v in quaternion))
-    if norm < 1e-9:
-        return None, "a box with a zero quaternion"
-    quaternion = tuple(v / norm for v in quaternion)
-    return Detection(entry.get("id"), label, score, Cuboid(centre, extent, quaternion)), None
-
-
-def load_detections(path):
-    """(detections, Counter of skip reasons) of one <stamp>.json."""
-    try:
-        with open(path, encoding="utf-8") as stream:
-            document = json.load(stream)
-    except OSError as error:
-        raise CuboidError(f"{path}: cannot read: {error.strerror}") from error
-    except ValueError as error:  # UnicodeDecodeError too
-        raise CuboidError(f"{path}: not valid JSON ({error})") from error
-    except RecursionError as error:
-        raise CuboidError(f"{path}: not a detections file (nested too deeply to read)") \
-            from error
-    entries = document.get("detections") if isinstance(document, dict) else None
-    if not isinstance(entries, list):
-        raise CuboidError(f"{path}: not a detections file (no 'detections' list)")
-    detections, skipped = [], collections.Counter()
-    for k, entry in enumerate(entries):
-        detection, why = parse_detection(entry, f"{path}: detections[{k}]")
-        if detection is None:
-            skipped[why] += 1
-        else:
-            detections.append(detection)
-    return detections, skipped
-
 
 def load_class_map(path):
     """{predicted label: (true labels,)} from a YAML mapping of a label to a label or a list."""

@@ -18,9 +18,10 @@ import os
 import numpy as np
 
 from .. import progress
-from ..bag_to_files.pcd import CloudError
+from ..frames_folder import DetectionsError
 from ..output import (OutputError, OutputFolder, check_output_apart, run_main, save_figure,
                       write_file)
+from ..pcd import CloudError
 from .cuboid_matching import (CENTRE_TOLERANCE_M, CRITERIA, CRITERION_TITLES, DEFAULT_CLASS_MAP,
                               ERROR_KEYS, GATE_M, TOOL, YAW_TOLERANCE_DEG, CuboidError, Filters,
                               Settings, UsageError, evaluate, load_class_map)
@@ -297,4 +298,4 @@ def main(argv=None):
             print(f"{TOOL}: {os.path.join(args.out, 'index.md')}")
         return 0
 
-    return run_main(TOOL, body, (CuboidError, CloudError, OutputError, OSError))
+    return run_main(TOOL, body, (CuboidError, DetectionsError, CloudError, OutputError, OSError))

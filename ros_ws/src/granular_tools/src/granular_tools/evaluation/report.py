@@ -20,9 +20,9 @@ matplotlib.use("Agg")  # Files only: no display needed.
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import object_label  # noqa: E402
 from ..output import OutputFolder, run_main, save_figure, write_file  # noqa: E402
+from ..pcd import CloudError, read_pcd  # noqa: E402
 from .instances import (FOUR_CARS, PARTS, instance_scores, instances_of,  # noqa: E402
                         with_interval)
 from .metrics import MISSING, ResultsError, confusion, load_results, summarise  # noqa: E402

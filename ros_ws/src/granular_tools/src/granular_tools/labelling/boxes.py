@@ -1,15 +1,14 @@
 """The edits the labelling tool makes to one cuboid: move it in the ground plane, turn it about
 the vertical, push or pull one of its six faces while the opposite face stays put.
 
-A box is an evaluation.geometry.Cuboid in the cloud's frame (z up): centre, size (length,
+A box is a geometry.Cuboid in the cloud's frame (z up): centre, size (length,
 width, height along the box's own x, y, z axes) and a unit quaternion (x, y, z, w).
 """
 import math
 
 import numpy as np
 
-from ..evaluation.geometry import Cuboid, rotation_matrix
-from ..kitti import quaternion_from_matrix
+from ..geometry import Cuboid, quaternion_from_matrix, rotation_matrix
 
 # A face is named by the box axis it faces along: "+x" is the front (the end the length
 # axis points to), "-z" the bottom.

@@ -11,9 +11,9 @@ import itertools
 import json
 from typing import Optional
 
-from ..evaluation.cuboid_matching import CuboidError, parse_detection
-from ..evaluation.geometry import Cuboid
-from .boxes import edited_by_pose, with_face_dragged, drag_distance
+from ..frames_folder import DetectionsError, parse_detection, stamp_of_name
+from ..geometry import Cuboid
+from .boxes import drag_distance, edited_by_pose, with_face_dragged
 
 MAX_ID = 2 ** 32 - 1  # Detection3D.id is a uint32
 
@@ -88,8 +88,8 @@ class Document:
 
 def empty_header(stamp_name, frame_id):
     """The header of a frame with no detections file: the stamp of its name."""
-    return {"stamp": {"secs": int(stamp_name[:-9] or 0), "nsecs": int(stamp_name[-9:])},
-            "frame_id": frame_id, "seq": 0}
+    secs, nsecs = stamp_of_name(stamp_name)
+    return {"stamp": {"secs": secs, "nsecs": nsecs}, "frame_id": frame_id, "seq": 0}
 
 
 def _entry(key, detection, raw, where):
@@ -97,7 +97,7 @@ def _entry(key, detection, raw, where):
         raise DocumentError(f"{where}: expected an object, got {detection!r:.40}")
     try:
         parsed, why = parse_detection(detection, where)
-    except CuboidError as error:
+    except DetectionsError as error:
         raise DocumentError(str(error)) from error
     return Entry(key, detection, raw, parsed.box if parsed else None, why)
 

@@ -24,8 +24,8 @@ import sys
 import numpy as np
 
 from .. import kitti
-from ..bag_to_files.frames import JSON_FOLDER, stamp_name
-from ..evaluation.geometry import Cuboid
+from ..frames_folder import DETECTIONS_FOLDER, stamp_name
+from ..geometry import Cuboid
 from ..labels import decode_label, encode_label
 from ..output import OutputFolder, run_main
 from .document import DocumentError, read_document
@@ -69,7 +69,7 @@ def kitti_frames(calib, wanted, start_time):
     if missing:
         raise UsageError(f"{calib}: no calib file for frame {missing[0]:06d}"
                          + (f" (and {len(missing) - 1} more)" if len(missing) > 1 else ""))
-    from ..simulation.recorder import ros_time
+    from ..messages import ros_time
 
     ordered = sorted((stems[n] for n in numbers))
     return {stamp_name(ros_time(start_time, k * kitti.FRAME_PERIOD)): stem
@@ -131,7 +131,7 @@ def export_labels(args):
     keys = (f"box{n}" for n in itertools.count())
     for name in names:  # every frame is read and checked before anything is written
         stem = frame_map.label_name(name)
-        path = os.path.join(args.folder, JSON_FOLDER, name + ".json")
+        path = os.path.join(args.folder, DETECTIONS_FOLDER, name + ".json")
         document = read_document(path, name, "", keys)
         lines = []
         for entry in document.entries:

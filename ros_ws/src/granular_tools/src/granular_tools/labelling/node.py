@@ -1,6 +1,6 @@
 """label_cuboids: correct, create and save 3D boxes of a frames folder in rviz (see --help and
 docs/labelling.md). The node turns rviz's feedback into edits of session.Session's frames and
-draws them back as interactive markers (markers.py)."""
+draws them back as interactive markers (edit_markers.py)."""
 import argparse
 import os
 import signal
@@ -18,15 +18,15 @@ from std_msgs.msg import String
 
 from ..bag_to_files import offline
 from ..bag_to_files.config import BagToFilesConfig
-from ..bag_to_files.pcd import CloudError, pcd_to_cloud
 from ..bags import BagError
 from ..config_loading import ConfigError
-from ..evaluation.geometry import Cuboid
+from ..frames_folder import CLOUDS_FOLDER
+from ..messages import detection_cuboid, pcd_to_cloud
 from ..nodes import missing_master
-from ..output import OutputError, run_main
-from ..stages import resolve
+from ..output import OutputError, resolve, run_main
+from ..pcd import CloudError
 from .config import load_config
-from .markers import (FRAME_MARKER, box_marker, handle_markers, split_handle_name,
+from .edit_markers import (FRAME_MARKER, box_marker, handle_markers, split_handle_name,
                       title_marker)
 from .session import BACKUP_FOLDER, TOOL, Session
 
@@ -95,14 +95,6 @@ def frame_index(names, text):
     if text.isdigit() and 1 <= int(text) <= len(names):
         return int(text) - 1
     return None
-
-
-def cuboid_of(detection):
-    """The Cuboid of a lgsvl_msgs/Detection3D's box."""
-    pose, size = detection.bbox.position, detection.bbox.size
-    return Cuboid((pose.position.x, pose.position.y, pose.position.z), (size.x, size.y, size.z),
-                  (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-                   pose.orientation.w))
 
 
 class Labeller:
@@ -347,7 +339,7 @@ class Labeller:
             if reply.error:
                 rospy.logerr("%s: no new box at the click: %s", TOOL, reply.error)
                 return
-            box = cuboid_of(reply.cuboid)
+            box = detection_cuboid(reply.cuboid)
             self.selected = self.labels.add(self.new_class, box)
             how = f"fitted to {reply.points} points" if reply.points else \
                 "the class's default size: too few points near the click"
@@ -418,8 +410,8 @@ class Labeller:
 
 def _prepare_frames(args):
     """FOLDER made from --bag when it holds no frames yet; its exit status."""
-    if os.path.isdir(os.path.join(args.frames, "pcd")) and os.listdir(
-            os.path.join(args.frames, "pcd")):
+    if os.path.isdir(os.path.join(args.frames, CLOUDS_FOLDER)) and os.listdir(
+            os.path.join(args.frames, CLOUDS_FOLDER)):
         print(f"{TOOL}: {args.frames} holds frames already: labelling them; {args.bag} is not "
               "converted again", file=sys.stderr)
         return 0

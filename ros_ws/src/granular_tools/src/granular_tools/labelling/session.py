@@ -17,7 +17,7 @@ import contextlib
 import itertools
 import os
 
-from ..bag_to_files.frames import JSON_FOLDER, PCD_FOLDER
+from ..frames_folder import CLOUDS_FOLDER, DETECTIONS_FOLDER
 from ..output import OutputError, absolute, claimed_folder, write_atomically
 from .document import DocumentError, FrameLabels, read_document
 
@@ -32,13 +32,13 @@ class SessionError(ValueError):
 
 def frame_names(frames):
     """Stamps of FRAMES/pcd/*.pcd, in time order; SessionError when there are none."""
-    folder = os.path.join(frames, PCD_FOLDER)
+    folder = os.path.join(frames, CLOUDS_FOLDER)
     if not os.path.isdir(frames):
         raise SessionError(f"{frames}: no such folder")
     names = sorted(name[:-4] for name in os.listdir(folder) if name.endswith(".pcd")
                    and not name.startswith(".")) if os.path.isdir(folder) else []
     if not names:
-        raise SessionError(f"{frames}: not a frames folder: no {PCD_FOLDER}/*.pcd (make one "
+        raise SessionError(f"{frames}: not a frames folder: no {CLOUDS_FOLDER}/*.pcd (make one "
                            "with bag_to_files)")
     # Stamps of equal length sort by time as text; a shorter one is an earlier second.
     return sorted(names, key=lambda name: (len(name), name))
@@ -69,7 +69,7 @@ class Session:
     def __init__(self, frames, cuboids=None, frame_id="velodyne", min_size=0.1):
         self.frames, self.cuboids = absolute(frames), cuboids and absolute(cuboids)
         self.frame_id, self.min_size = frame_id, min_size
-        self.json_folder = os.path.join(self.frames, JSON_FOLDER)
+        self.json_folder = os.path.join(self.frames, DETECTIONS_FOLDER)
         self.backup_folder = os.path.join(self.frames, BACKUP_FOLDER)
         self.names, self.skipped = [], {}  # frames to label; stamp -> why a frame is skipped
         # stamp -> FrameLabels; stamp -> the entries its file holds (as read or last saved)
@@ -105,7 +105,7 @@ class Session:
         return os.path.join(self.json_folder, name + ".json")
 
     def pcd_path(self, name):
-        return os.path.join(self.frames, PCD_FOLDER, name + ".pcd")
+        return os.path.join(self.frames, CLOUDS_FOLDER, name + ".pcd")
 
     def _backup_path(self, name):
         return os.path.join(self.backup_folder, name + ".json")

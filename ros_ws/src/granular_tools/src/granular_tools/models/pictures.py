@@ -13,9 +13,9 @@ matplotlib.use("Agg")  # Files only: no display needed.
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..bag_to_files.pcd import CloudError, read_pcd  # noqa: E402
 from ..labels import encode_label, model_label  # noqa: E402
 from ..output import OutputFolder, run_main, save_figure  # noqa: E402
+from ..pcd import CloudError, read_pcd  # noqa: E402
 
 # (title, horizontal axis, vertical axis, sign of the horizontal axis)
 FLAT_VIEWS = [("side (from the left)", 0, 2, 1.0), ("rear (from behind)", 1, 2, -1.0),

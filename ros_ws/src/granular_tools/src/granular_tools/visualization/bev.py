@@ -11,10 +11,10 @@ import os
 
 import numpy as np
 
-from ..bag_to_files.pcd import CloudError, read_pcd
-from ..evaluation.cuboid_matching import CuboidError, load_detections
-from ..evaluation.geometry import footprint
+from ..frames_folder import DetectionsError, detections_folder, load_detections
+from ..geometry import footprint
 from ..output import OutputError, run_main, save_figure
+from ..pcd import CloudError, read_pcd
 
 GROUND_COLOUR = "#d8cfc0"
 OBSTACLE_COLOUR = "#7a7a7a"
@@ -144,9 +144,7 @@ def main(argv=None):
             parser.error(f"{option} {folder}: no such folder")
 
     def body():
-        truth = args.truth
-        if truth and os.path.isdir(os.path.join(truth, "detections_3d")):
-            truth = os.path.join(truth, "detections_3d")
+        truth = detections_folder(args.truth, "truth")[0] if args.truth else None
         for path in (os.path.join(args.saved, args.stamp + ".pcd"),
                      os.path.join(args.saved, args.stamp + ".json")):
             if not os.path.isfile(path):
@@ -156,4 +154,4 @@ def main(argv=None):
         render(args.saved, args.stamp, args.out, truth, args.cuboids, args.extent, args.title)
         return 0
 
-    return run_main("render_frame", body, (CloudError, CuboidError, OutputError, OSError))
+    return run_main("render_frame", body, (CloudError, DetectionsError, OutputError, OSError))

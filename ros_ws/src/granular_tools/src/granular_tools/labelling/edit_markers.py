@@ -8,7 +8,7 @@ from geometry_msgs.msg import Point, Pose, Quaternion, Vector3
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import InteractiveMarker, InteractiveMarkerControl, Marker
 
-from ..visualization.markers import UNKNOWN_COLOUR
+from ..visualization.detection_markers import UNKNOWN_COLOUR
 from .boxes import FACES, face_axis, face_centre
 
 FRAME_MARKER = "frame"

@@ -1,4 +1,5 @@
-"""Cuboid geometry for evaluate_cuboids: yaw, rotated footprints, bird's-eye and 3-D IoU.
+"""Boxes and rotations, written once for every tool: the Cuboid, quaternions to matrices and
+back, quaternion products, yaw, rotated footprints, bird's-eye and 3-D IoU, points in a box.
 
 A cuboid is the `bbox` of a Detection3D: centre, orientation (quaternion x, y, z, w) and size
 (x = length along the box's heading, y = width, z = height), in metres. Overlaps treat a box
@@ -44,10 +45,45 @@ def from_yaw(x, y, z, length, width, height, yaw):
 
 
 def rotation_matrix(q):
+    """The 3x3 rotation of a unit quaternion (x, y, z, w)."""
     x, y, z, w = q
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def quaternion_from_matrix(rotation):
+    """(x, y, z, w), w >= 0, of a rotation matrix (Shepperd's method: stable for every angle)."""
+    m = np.asarray(rotation, float)
+    trace = np.trace(m)
+    if trace > max(m[0, 0], m[1, 1], m[2, 2]):
+        s = 2.0 * math.sqrt(1.0 + trace)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
+    else:
+        i = int(np.argmax(np.diag(m)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
+        q = [0.0] * 4
+        q[i], q[j], q[k] = s / 4, (m[j, i] + m[i, j]) / s, (m[k, i] + m[i, k]) / s
+        q[3] = (m[k, j] - m[j, k]) / s
+    q = np.array(q) / np.linalg.norm(q)
+    return tuple(float(v) for v in (-q if q[3] < 0.0 else q))
+
+
+def quaternion_multiply(a, b):
+    """The quaternion product a b, both (x, y, z, w): b's rotation, then a's."""
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz)
+
+
+def rotate(q, v):
+    """The vector `v` (3,) turned by the unit quaternion `q` (x, y, z, w)."""
+    x, y, z, w = q
+    u = np.array([x, y, z])
+    v = np.asarray(v, float)
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
 
 
 def yaw_of_quaternion(q):

@@ -17,15 +17,14 @@ import os
 import shutil
 import time
 
-from .. import pipeline
-from ..bag_to_files.pcd import CloudError
-from ..output import (OutputError, OutputFolder, check_output_folder, claimed_folder,
+from ..evaluation import report
+from ..evaluation.instances import with_interval
+from ..evaluation.metrics import ResultsError
+from ..output import (OutputError, OutputFolder, check_output_folder, claimed_folder, resolve,
                       run_main)
-from ..stages import (StageError, add_runner_options, bad_argument, failure_marker, resolve,
-                      run_tool)
-from . import report
-from .instances import with_interval
-from .metrics import ResultsError
+from ..pcd import CloudError
+from . import pipeline
+from .stages import StageError, add_runner_options, bad_argument, failure_marker, run_tool
 
 REGISTRATION_METHODS = ("icp", "icp_nl", "ndt")
 SUPERVISED_METHODS = ("knn", "svm", "svm_esf", "svm_fitness")

@@ -14,10 +14,10 @@ import dataclasses
 import os
 import time
 
-from .output import OutputError, check_output_folder, claimed_folder, run_main
+from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
 from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument,
                      bag_frames_config, existing_file, failure_marker, frames_stage,
-                     positive_number, resolve, run_tool)
+                     positive_number, run_tool)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")

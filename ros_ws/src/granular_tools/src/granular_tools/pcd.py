@@ -1,7 +1,7 @@
-"""sensor_msgs/PointCloud2 to PCD (binary), keeping every field of the cloud."""
+"""The PCD file format: a sensor_msgs/PointCloud2 written as a binary PCD with every field of
+the cloud, and a PCD file (binary or ascii) read back as structured points."""
 import numpy as np
-from sensor_msgs.msg import PointCloud2, PointField
-from std_msgs.msg import Header
+from sensor_msgs.msg import PointField
 
 # PointField datatype -> (PCD TYPE, SIZE, numpy type)
 _PCD_TYPES = {
@@ -109,11 +109,3 @@ def read_pcd(path):
         raise CloudError(f"{path}: DATA {header['DATA'][0]} is not supported")
     return fields, points, width, height
 
-
-def pcd_to_cloud(path, frame_id, stamp):
-    """Read a PCD file into a PointCloud2 with the file's fields."""
-    fields, points, width, height = read_pcd(path)
-    return PointCloud2(header=Header(stamp=stamp, frame_id=frame_id), height=height, width=width,
-                       fields=fields, is_bigendian=False, point_step=points.dtype.itemsize,
-                       row_step=points.dtype.itemsize * width, data=points.tobytes(),
-                       is_dense=False)

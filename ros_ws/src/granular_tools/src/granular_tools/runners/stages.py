@@ -7,13 +7,13 @@ import os
 import signal
 import subprocess
 
-from . import progress
-from .bag_to_files.config import BagToFilesConfig
-from .bag_to_files.offline import convert_into_new_folder, has_detections
-from .bag_to_files.pcd import CloudError
-from .bags import BagError
-from .config_loading import ConfigError, load_yaml_over
-from .output import Interrupted, OutputError, write_atomically
+from .. import progress
+from ..bag_to_files.config import BagToFilesConfig
+from ..bag_to_files.offline import convert_into_new_folder, has_detections
+from ..bags import BagError
+from ..config_loading import ConfigError, load_yaml_over
+from ..output import Interrupted, OutputError, write_atomically
+from ..pcd import CloudError
 
 FAILED_MARKER = "FAILED"
 _CHILD_GRACE = 20.0  # s a tool has to clean up after a forwarded signal before it is killed
@@ -48,14 +48,6 @@ def add_runner_options(parser):
                              "folder roslaunch was started from; default: the working folder)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace results that granular tools wrote in OUT")
-
-
-def resolve(path, relative_to=None):
-    """`path` made absolute against `relative_to` (the folder the user ran roslaunch from,
-    which launch files pass) or the working directory."""
-    if path is None or os.path.isabs(path):
-        return path
-    return os.path.normpath(os.path.join(relative_to or os.getcwd(), path))
 
 
 def existing_file(path, what):

@@ -18,12 +18,12 @@ import json
 import os
 import time
 
-from ..output import OutputError, run_main, write_atomically
-from ..stages import StageError, bad_argument, resolve, run_tool
-from . import run
-from .instances import (FOUR_CARS, PARTS, accuracy, instance_groups, instances_of,
-                        mean_interval, with_interval)
-from .metrics import ResultsError, load_results
+from ..evaluation.instances import (FOUR_CARS, PARTS, accuracy, instance_groups, instances_of,
+                                    mean_interval, with_interval)
+from ..evaluation.metrics import ResultsError, load_results
+from ..output import OutputError, resolve, run_main, write_atomically
+from .evaluation import DEFAULT_FITNESS_FROM, DEFAULT_SUPERVISED, REGISTRATION_METHODS
+from .stages import StageError, bad_argument, run_tool
 
 DEFAULT_PAIRS = "1:2,101:202,11:22"
 # A pair's further train drives: seeds train + 1000, train + 2000, ...
@@ -197,11 +197,11 @@ def main(argv=None):
                         help="train drives per pair, seeds the train seed + 1000 k for k < K: "
                              "the models and supervised classifiers learn from all of them "
                              "(default: %(default)s)")
-    parser.add_argument("--methods", default=",".join(run.REGISTRATION_METHODS),
+    parser.add_argument("--methods", default=",".join(REGISTRATION_METHODS),
                         help="registration methods (default: %(default)s)")
-    parser.add_argument("--supervised", default=",".join(run.DEFAULT_SUPERVISED),
+    parser.add_argument("--supervised", default=",".join(DEFAULT_SUPERVISED),
                         help="supervised methods; '' for none (default: %(default)s)")
-    parser.add_argument("--fitness-from", default=",".join(run.DEFAULT_FITNESS_FROM),
+    parser.add_argument("--fitness-from", default=",".join(DEFAULT_FITNESS_FROM),
                         help="the registrations svm_fitness learns from (default: %(default)s)")
     parser.add_argument("--presets", default="tuned",
                         help="registration presets (default: %(default)s; the report's never "

@@ -11,7 +11,7 @@ import rosbag
 
 import hostile
 from conftest import REPO_ROOT
-from granular_tools.runners.cuboids import SIMULATOR_SENSOR
+from granular_tools.runners.stages import SIMULATOR_SENSOR
 
 RUN_CUBOIDS = hostile.tool("granular_tools", "run_cuboids")
 RUN_PIPELINE = hostile.tool("granular_tools", "run_pipeline")

@@ -22,6 +22,7 @@ from ..output import OutputFolder
 from ..runners.stages import without_rosrun
 
 LOG_NAME = "log.txt"
+SCRATCH_PREFIX = "granular-fleet-"  # + the worker's process id: a bag's frames on its disk
 
 
 class ToolFailed(Exception):
@@ -78,6 +79,22 @@ def count_objects(objects_folder):
     return counts
 
 
+def clear_dead_scratch():
+    """Remove the frames that workers killed on this machine left (their process ids are in the
+    names, and no longer run)."""
+    folder = tempfile.gettempdir()
+    for name in os.listdir(folder):
+        pid = name[len(SCRATCH_PREFIX):].split("-")[0]
+        if not name.startswith(SCRATCH_PREFIX) or not pid.isdigit():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(os.path.join(folder, name), ignore_errors=True)
+        except PermissionError:
+            pass  # another user's process, alive
+
+
 def _failed(error, started):
     return {"status": "failed", "message": str(error), "seconds": time.monotonic() - started}
 
@@ -92,7 +109,10 @@ def extract_bag(spec):
     log = os.path.join(folder, LOG_NAME)
     # The frames are the bulk of the writing (a third of the bag's bytes) and only this task
     # reads them: on the worker's own disk unless asked for, not on the shared storage.
-    scratch = None if spec.get("keep_frames") else tempfile.mkdtemp(prefix="granular-fleet-")
+    scratch = None
+    if not spec.get("keep_frames"):
+        clear_dead_scratch()
+        scratch = tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-")
     frames = os.path.join(scratch or folder, "frames")
     cuboids, objects = os.path.join(folder, "cuboids"), os.path.join(folder, "objects")
     segment = spec["boxes"] == "segment"

@@ -15,9 +15,9 @@ import os
 import time
 
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
-from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument,
-                     bag_frames_config, existing_file, failure_marker, frames_stage,
-                     positive_number, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
+                     bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
+                     frames_stage, positive_number, run_tool)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
@@ -71,23 +71,6 @@ class CuboidsRun(ConfigFolder):
         return self
 
 
-def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None):
-    """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
-    config_file(), sensor_height, azimuth_step, prior_classes and overwrite)."""
-    command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
-               "--boxes", boxes]
-    for option, value in (("--method", method), ("--models", models),
-                          ("--classifier", classifier),
-                          ("--config", run.config_file("cuboids.yaml")),
-                          ("--ground-config", run.config_file("ground.yaml")),
-                          ("--segmentation-config", run.config_file("segmentation.yaml")),
-                          ("--sensor-height", run.sensor_height),
-                          ("--azimuth-step", run.azimuth_step),
-                          ("--prior-classes", run.prior_classes)):
-        command += [option, str(value)] if value is not None else []
-    return command + (["--overwrite"] if run.overwrite else [])
-
-
 def cuboids_stage(run):
     run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
                          run.method, run.models, run.classifier), "cuboids (fit_cuboids)")
@@ -122,32 +105,6 @@ def run(cuboids_run):
                 report_stage(cuboids_run)
             else:
                 print("run_cuboids: the bag has no boxes, so no report", flush=True)
-
-
-# The simulator's sensor and vehicles: the runners' defaults, as the launch files' (cuboids,
-# pipeline and online.launch repeat them; test_run_cuboids checks that they agree).
-SIMULATOR_SENSOR = {"sensor_height": "2.3", "azimuth_step": "1.0",
-                    "prior_classes": "Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus"}
-
-
-def add_sensor_options(parser):
-    """--sensor-height, --azimuth-step and --prior-classes: the sensor and the vehicles that
-    fit_cuboids needs to know; the simulator's by default, as in the launch files. An empty
-    value leaves fit_cuboids' own default (config/ground.yaml's height, KITTI's step and
-    config/cuboids.yaml's priors)."""
-    parser.add_argument("--sensor-height", default=SIMULATOR_SENSOR["sensor_height"],
-                        metavar="M",
-                        help="the sensor's height above the road (default %(default)s, the "
-                             "simulator's; KITTI 1.73)")
-    parser.add_argument("--azimuth-step", default=SIMULATOR_SENSOR["azimuth_step"],
-                        metavar="DEG",
-                        help="the sensor's angle between returns along a ring (default "
-                             "%(default)s, the simulator's; KITTI 0.176)")
-    parser.add_argument("--prior-classes", default=SIMULATOR_SENSOR["prior_classes"],
-                        metavar="LIST",
-                        help="the size priors the geometric fit chooses among, comma-separated "
-                             "(default %(default)s, the simulator's vehicles; KITTI "
-                             "Car,Van,Truck)")
 
 
 def main(argv=None):

@@ -19,6 +19,8 @@ import time
 
 from ..evaluation import report
 from ..evaluation.instances import with_interval
+from ..evaluation.methods import (DEFAULT_FITNESS_FROM, DEFAULT_PRESETS, DEFAULT_SUPERVISED,
+                                  PRESETS, REGISTRATION_METHODS, SUPERVISED_METHODS)
 from ..evaluation.metrics import ResultsError
 from ..output import (OutputError, OutputFolder, check_output_folder, claimed_folder, resolve,
                       run_main)
@@ -26,18 +28,6 @@ from ..pcd import CloudError
 from . import pipeline
 from .stages import StageError, add_runner_options, bad_argument, failure_marker, run_tool
 
-REGISTRATION_METHODS = ("icp", "icp_nl", "ndt")
-SUPERVISED_METHODS = ("knn", "svm", "svm_esf", "svm_fitness")
-# ESF takes 8 ms an object (docs/supervised.md), the demo's two minutes and 80 % of a frame's
-# budget online, for the lowest accuracy: asked for by name only.
-DEFAULT_SUPERVISED = ("knn", "svm", "svm_fitness")
-PRESETS = ("report", "tuned", "fast")
-# What run_evaluation compares unless asked: the report's values and the tuned ones.
-DEFAULT_PRESETS = ("report", "tuned")
-# The registrations svm_fitness learns from: tuned ICP, NDT and ICP-NL (ICP-NL's fitness was
-# worth 0.6 points on the four cars at N_thresh 100, and about 0.1 since ICP-NL shares ICP's
-# coarse stage and values, docs/classification.md; the evaluation runs all three anyway).
-DEFAULT_FITNESS_FROM = ("icp_tuned", "ndt_tuned", "icp_nl_tuned")
 
 
 def results_name(method, preset):

@@ -20,9 +20,9 @@ import time
 
 from ..evaluation.instances import (FOUR_CARS, PARTS, accuracy, instance_groups, instances_of,
                                     mean_interval, with_interval)
+from ..evaluation.methods import DEFAULT_FITNESS_FROM, DEFAULT_SUPERVISED, REGISTRATION_METHODS
 from ..evaluation.metrics import ResultsError, load_results
 from ..output import OutputError, resolve, run_main, write_atomically
-from .evaluation import DEFAULT_FITNESS_FROM, DEFAULT_SUPERVISED, REGISTRATION_METHODS
 from .stages import StageError, bad_argument, run_tool
 
 DEFAULT_PAIRS = "1:2,101:202,11:22"

@@ -18,10 +18,9 @@ import time
 
 from ..models import pictures
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
-from .cuboids import add_sensor_options, fit_command
-from .stages import (ConfigFolder, StageError, add_runner_options, bad_argument,
-                     bag_frames_config, existing_file, failure_marker, frames_stage,
-                     positive_number, run_tool)
+from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
+                     bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
+                     frames_stage, positive_number, run_tool)
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}

@@ -1,7 +1,11 @@
 #include "granular_ros/box_free_options.h"
 
 #include <algorithm>
+#include <iostream>
+#include <stdexcept>
+#include <vector>
 
+#include <granular_core/dataset/pcd_io.h>
 #include <granular_core/text.h>
 
 #include "granular_ros/config_file.h"
@@ -11,6 +15,7 @@ namespace granular_ros {
 void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_option) {
   table.value("--ground-config", ground_config)
       .value(segmentation_option, segmentation_config)
+      .value("--sensor", sensor)
       .custom("--sensor-height",
               [this](OptionReader& reader) {
                 sensor_height = parseNumber<double>("--sensor-height", reader.value());
@@ -20,8 +25,85 @@ void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_o
       });
 }
 
+granular::SensorConfig loadSensorFile(const std::string& name_or_file) {
+  const bool is_name = name_or_file.find('/') == std::string::npos &&
+                       std::filesystem::path(name_or_file).extension() != ".yaml";
+  const std::filesystem::path file =
+      is_name ? std::filesystem::path(GRANULAR_SENSORS_DIR) / (name_or_file + ".yaml")
+              : std::filesystem::path(name_or_file);
+  if (!std::filesystem::is_regular_file(file)) {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(GRANULAR_SENSORS_DIR)) {
+      if (entry.path().extension() == ".yaml") {
+        names.push_back(entry.path().stem().string());
+      }
+    }
+    std::sort(names.begin(), names.end());
+    throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " +
+                                file.string() + " (sensors: " + granular::joined(names) +
+                                ", auto, or a FILE.yaml)");
+  }
+  granular::SensorConfig sensor;
+  loadConfigFile(file, sensor);
+  try {
+    granular::validate(sensor);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(file.string() + ": " + error.what());
+  }
+  return sensor;
+}
+
+std::pair<double, double> BoxFreeOptions::sensorValues() const {
+  if (sensor_values_) {
+    return *sensor_values_;
+  }
+  if (*sensor != "auto") {
+    const granular::SensorConfig file = loadSensorFile(*sensor);
+    sensor_values_.emplace(file.mount_height, file.azimuth_step_deg);
+    return *sensor_values_;
+  }
+  // Up to ten clouds spread over the folder.
+  std::vector<std::filesystem::path> clouds;
+  const std::filesystem::path pcd = frames / "pcd";
+  if (std::filesystem::is_directory(pcd)) {
+    for (const auto& entry : std::filesystem::directory_iterator(pcd)) {
+      if (entry.path().extension() == ".pcd") {
+        clouds.push_back(entry.path());
+      }
+    }
+  }
+  if (clouds.empty()) {
+    throw std::invalid_argument("--sensor auto: no clouds to measure in " + pcd.string());
+  }
+  std::sort(clouds.begin(), clouds.end());
+  const std::size_t taken = std::min<std::size_t>(10, clouds.size());
+  std::vector<granular::Cloud> read;
+  for (std::size_t i = 0; i < taken; ++i) {
+    read.push_back(granular::readPcd(clouds[i * clouds.size() / taken]));
+  }
+  granular::GroundConfig ground_stage = buildConfig<granular::GroundConfig>(ground_config, {});
+  const granular::SensorEstimate estimate = granular::estimateSensor(read, ground_stage);
+  if (!estimate.mount_height || !estimate.azimuth_step_deg) {
+    throw std::invalid_argument(
+        "--sensor auto cannot tell from " + std::to_string(taken) + " clouds of " +
+        frames.string() + ": " + granular::joined(estimate.problems, "; ") +
+        "; name the sensor (--sensor NAME) or give --sensor-height and --azimuth-step");
+  }
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "sensor auto: mount height %.2f m (the road plane under %zu clouds), azimuth "
+                "step %.3f deg (returns along rings)",
+                *estimate.mount_height, taken, *estimate.azimuth_step_deg);
+  std::cerr << line << std::endl;
+  sensor_values_.emplace(*estimate.mount_height, *estimate.azimuth_step_deg);
+  return *sensor_values_;
+}
+
 granular::GroundConfig BoxFreeOptions::ground() const {
   return buildConfig<granular::GroundConfig>(ground_config, [&](granular::GroundConfig& config) {
+    if (sensor) {
+      config.plane.sensor_height = sensorValues().first;
+    }
     if (sensor_height) {
       config.plane.sensor_height = *sensor_height;
     }
@@ -31,6 +113,9 @@ granular::GroundConfig BoxFreeOptions::ground() const {
 granular::SegmentationStageConfig BoxFreeOptions::segmentation() const {
   return buildConfig<granular::SegmentationStageConfig>(
       segmentation_config, [&](granular::SegmentationStageConfig& config) {
+        if (sensor) {
+          config.objects.azimuth_step_deg = sensorValues().second;
+        }
         if (azimuth_step) {
           config.objects.azimuth_step_deg = *azimuth_step;
         }
@@ -44,6 +129,9 @@ std::string BoxFreeOptions::help(const std::string& segmentation_option) {
                                            : "\n" + std::string(25, ' ');
   return "  --ground-config FILE   YAML file like config/ground.yaml\n" + segmentation +
          "YAML file like config/segmentation.yaml\n"
+         "  --sensor NAME|FILE|auto  the sensor: config/sensors/NAME.yaml (simulator, hdl64e,\n"
+         "                         os1_64, vlp16, pandar64), a sensor file, or auto: its height\n"
+         "                         and azimuth step measured from the frames' clouds\n"
          "  --sensor-height M      the sensor's height above the road (plane.sensor_height of\n"
          "                         --ground-config; KITTI's HDL-64E 1.73, the simulator's 2.3)\n"
          "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"

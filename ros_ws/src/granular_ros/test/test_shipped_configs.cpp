@@ -8,6 +8,7 @@
 #include <granular_core/segmentation/object_segmentation.h>
 #include <granular_core/supervised/supervised_classifier.h>
 
+#include "granular_ros/box_free_options.h"
 #include "granular_ros/config_file.h"
 #include "temporary_yaml.h"
 
@@ -67,6 +68,47 @@ TEST(ShippedConfigTest, GroundYamlStatesTheGroundDefaults) {
   ground.lines.sectors = 7;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "ground.yaml", ground));
   EXPECT_TRUE(ground == granular::GroundConfig());
+}
+
+TEST(ShippedConfigTest, EverySensorFileLoadsAndValidates) {
+  // config/sensors/*.yaml, by name as --sensor NAME reads them; the simulator's states the
+  // SensorConfig defaults (the simulated LiDAR), KITTI's the HDL-64E as mounted there.
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(GRANULAR_CONFIG_DIR) / "sensors")) {
+    SCOPED_TRACE(entry.path().string());
+    ASSERT_NO_THROW(loadSensorFile(entry.path().stem().string()));
+    ++files;
+  }
+  EXPECT_EQ(files, 5u);
+  const granular::SensorConfig simulator = loadSensorFile("simulator");
+  const granular::SensorConfig defaults;
+  EXPECT_EQ(simulator.mount_height, defaults.mount_height);
+  EXPECT_EQ(simulator.azimuth_step_deg, defaults.azimuth_step_deg);
+  EXPECT_EQ(simulator.rings, defaults.rings);
+  EXPECT_EQ(loadSensorFile("hdl64e").mount_height, 1.73);
+  EXPECT_EQ(loadSensorFile("hdl64e").azimuth_step_deg, 0.176);
+}
+
+class SensorFileTest : public TemporaryYamlTest {
+ protected:
+  std::string fileName() const { return file_.string(); }
+};
+
+TEST_F(SensorFileTest, ABadSensorIsRefusedNamingIt) {
+  try {
+    loadSensorFile("hdl46e");
+    FAIL() << "an unknown sensor name was taken";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("hdl64e"), std::string::npos) << error.what();
+  }
+  write("description: x\nmount_height: -1.0\nazimuth_step_deg: 0.2\nrings: 16\n"
+        "min_elevation_deg: -15\nmax_elevation_deg: 15\nmin_range: 0.5\nmax_range: 100\n"
+        "rate_hz: 10\n");
+  EXPECT_THROW(loadSensorFile(fileName()), std::invalid_argument);
+  write("description: x\nmount_height: 1.9\nazimuth_step_deg: 0.0\nrings: 16\n"
+        "min_elevation_deg: -15\nmax_elevation_deg: 15\nmin_range: 0.5\nmax_range: 100\n"
+        "rate_hz: 10\n");
+  EXPECT_THROW(loadSensorFile(fileName()), std::invalid_argument);
 }
 
 TEST(ShippedConfigTest, CuboidsYamlStatesTheCuboidDefaults) {

@@ -10,6 +10,7 @@
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/cuboids/segment_views.h"
+#include "granular_core/cuboids/vehicle_evidence.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/parallel.h"
 #include "background_decision.h"
@@ -59,6 +60,15 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   out << line;
   if (called_background > 0) {
     out << "  segments called Background (no cuboid): " << called_background << '\n';
+  }
+  if (!not_vehicles.empty()) {
+    std::size_t total = 0;
+    std::string reasons;
+    for (const auto& [verdict, count] : not_vehicles) {
+      total += count;
+      reasons += (reasons.empty() ? "" : ", ") + verdict + " " + std::to_string(count);
+    }
+    out << "  segments judged no vehicle (no cuboid): " << total << " (" << reasons << ")\n";
   }
   for (const auto& [label, count] : labels) {
     out << "  " << label << ": " << count << '\n';
@@ -115,6 +125,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     ObjectSegmentation segmentation;
     std::optional<SegmentViews> segment_views;
     std::optional<FreeSpace> free_space;
+    // Segments without a classifier: the zero-shot vehicle decision on each fitted cuboid.
+    std::optional<VehicleEvidence> evidence;
     // Given boxes, or the Background decision on segments, crop the frame box by box.
     std::optional<FrameCropper> cropper;
     if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr) {
@@ -129,6 +141,11 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
       }
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
+      if (options.classifier == nullptr && config.evidence.enabled &&
+          options.segmentation.method == SegmentationMethod::kObjects) {
+        evidence.emplace(cloud, segmentation.ground.plane, config.evidence,
+                         options.segmentation.objects.azimuth_step_deg);
+      }
       for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
         Input input;
         if (options.classifier != nullptr) {
@@ -192,6 +209,14 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       summary.milliseconds.push_back(milliseconds[i]);
       if (!fitted[i]) {
         continue;
+      }
+      if (evidence) {
+        const VehicleVerdict verdict =
+            evidence->judge(evidence->measure(inputs[i].view.points, fitted[i]->box));
+        if (verdict != VehicleVerdict::kVehicle) {
+          ++summary.not_vehicles[verdictName(verdict)];
+          continue;
+        }
       }
       Detection cuboid;
       cuboid.id = inputs[i].id;

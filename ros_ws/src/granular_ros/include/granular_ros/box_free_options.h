@@ -1,9 +1,11 @@
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
 #include <granular_core/ground/ground.h>
+#include <granular_core/ground/sensor.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <granular_core/supervised/supervised_classifier.h>
 
@@ -13,12 +15,17 @@ namespace granular_ros {
 
 /// The box-free path's settings as the tools take them: the ground's and the segmentation's
 /// config files (config/ground.yaml, config/segmentation.yaml) and the sensor's mounting height
-/// and angle between returns, which differ from one sensor to the next.
+/// and angle between returns, which differ from one sensor to the next: a sensor file
+/// (config/sensors/NAME.yaml, or a path), `auto` (measured from the clouds of `frames`), and
+/// the two values one by one over either.
 struct BoxFreeOptions {
   std::optional<std::string> ground_config;
   std::optional<std::string> segmentation_config;
-  std::optional<double> sensor_height;  ///< m, over the ground config's plane.sensor_height
-  std::optional<double> azimuth_step;   ///< deg, over the segmentation's objects.azimuth_step_deg
+  std::optional<std::string> sensor;    ///< NAME, FILE.yaml or auto
+  std::optional<double> sensor_height;  ///< m, over the sensor's and the ground config's
+  std::optional<double> azimuth_step;   ///< deg, over the sensor's and the segmentation's
+  /// The bag-to-files folder whose clouds `--sensor auto` measures.
+  std::filesystem::path frames;
 
   /// Adds --ground-config, `segmentation_option` (a file like config/segmentation.yaml),
   /// --sensor-height and --azimuth-step to `table`.
@@ -26,17 +33,29 @@ struct BoxFreeOptions {
 
   /// Whether any of them was given.
   bool given() const {
-    return ground_config || segmentation_config || sensor_height || azimuth_step;
+    return ground_config || segmentation_config || sensor || sensor_height || azimuth_step;
   }
 
-  /// The ground stage's configuration: defaults, the file, then --sensor-height; validated.
+  /// The ground stage's configuration: defaults, the file, the sensor's height, then
+  /// --sensor-height; validated.
   granular::GroundConfig ground() const;
-  /// The segmentation's: defaults, the file, then --azimuth-step; validated.
+  /// The segmentation's: defaults, the file, the sensor's azimuth step, then --azimuth-step;
+  /// validated.
   granular::SegmentationStageConfig segmentation() const;
 
   /// The --help lines of the options addTo adds.
   static std::string help(const std::string& segmentation_option = "--segmentation-config");
+
+ private:
+  /// The sensor's height and azimuth step: its file's, or measured (auto, once, said on
+  /// stderr); throws std::invalid_argument for a bad file or clouds that cannot tell.
+  std::pair<double, double> sensorValues() const;
+  mutable std::optional<std::pair<double, double>> sensor_values_;
 };
+
+/// A sensor file: NAME (config/sensors/NAME.yaml of this workspace) or a path; strict and
+/// validated, a std::invalid_argument naming the file otherwise.
+granular::SensorConfig loadSensorFile(const std::string& name_or_file);
 
 /// The Background decision's classifier from `file` (train_classifier's); a
 /// std::runtime_error naming the file when it knows no class `background_label`.

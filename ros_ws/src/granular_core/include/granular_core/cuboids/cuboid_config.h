@@ -138,6 +138,104 @@ struct FreeSpaceConfig {
   }
 };
 
+/// The zero-shot vehicle decision on a segment's cuboid (VehicleEvidence): geometry every
+/// rotating LiDAR shows, so it needs no labels of the sensor. A vehicle's body is an opaque
+/// shell: between body_min and body_max above the road its returns lie on the faces turned to
+/// the sensor, they fill every azimuth bin across it, and no ray passes through it to return from
+/// behind. Foliage, hedges and tree crowns let rays through and return from inside their volume;
+/// fences and posts leave gaps between their returns (docs/cuboids.md measures each cue).
+struct VehicleEvidenceConfig {
+  bool enabled = true;           ///< false: every segment gets a cuboid (today's behaviour)
+  double road_height = 0.2;      ///< m: lower returns are the road under and around it
+  double body_min = 0.5;         ///< m above the road: the band where a car's body is solid
+  double body_max = 1.0;         ///< m (above it, glass lets rays through)
+  /// deg: azimuth bins of the cues; at least twice the sensor's step between returns
+  /// (the tools take the larger of this and twice the sensor's azimuth step).
+  double bin_deg = 0.4;
+  /// m: a return farther than the object's farthest body return in its bin, by this, whose
+  /// ray crossed the object's range inside the body band, passed through the object.
+  double pass_margin = 0.3;
+  /// Most of the object's body rays that may pass through it (returns behind / body returns
+  /// and those together).
+  double max_pass_share = 0.15;
+  /// Least share of the azimuth bins across the object that hold a body return.
+  double min_fill = 0.85;
+  /// The median body return may lie at most max_face_share of the seen width (within
+  /// min_face_allowance and max_face_distance, m) from the two faces of the cuboid turned to
+  /// the sensor (its L): a car's skin is a surface, a bush's returns spread through its volume.
+  double max_face_share = 0.2;
+  double min_face_allowance = 0.15;  ///< m
+  double max_face_distance = 0.35;   ///< m
+  /// Returns above the road and in the body band: fewer cannot be judged. Counted for a sensor
+  /// with returns points_reference_step_deg apart along a ring; a sparser one needs
+  /// proportionally fewer.
+  std::size_t min_points = 30;
+  std::size_t min_body_points = 20;
+  double points_reference_step_deg = 0.2;  ///< deg
+  double min_top = 0.8;          ///< m: lower objects are kerbs, verges, low walls
+  double min_extent = 1.0;       ///< m: the longer side seen; shorter are posts and people
+  /// m: taller than this is no car; it is kept only as a truck or bus, whose body stands clear
+  /// of the road (below).
+  double max_car_top = 2.2;
+  double max_top = 4.2;          ///< m: no road vehicle is taller
+  double max_car_length = 5.5;   ///< m: a longer side no taller than max_car_top is no car
+  /// m: a tall object's body returns lie this near its faces: a truck's box or a bus's side is
+  /// flat (a hedge or a tree row is not).
+  double tall_max_face_distance = 0.1;
+  /// m above the road: a tall object's band where its body is solid, over the wheels and the
+  /// gap under a box truck's cargo box.
+  double tall_body_min = 1.2;
+  double tall_body_max = 2.5;
+  /// A tall object must show, along the side seen, the road under its body: in at least
+  /// tall_clear_share of its tall_bin pieces the lowest return is above tall_clearance plus
+  /// tall_clearance_per_m per metre of range (the gap between rings grows with range), where a
+  /// wall, a building or a tree row reaches the road.
+  double tall_clearance = 0.25;  ///< m
+  double tall_clearance_per_m = 0.01;  ///< m/m
+  double tall_clear_share = 0.5;
+  double tall_bin = 0.5;         ///< m
+  /// A car's side seen over at least profile_min_length shows its bonnet or boot lower than
+  /// its roof: the top of its outer quarters at least min_profile_drop below its middle's, in
+  /// pieces of profile_bin (a wall, a fence or a hedge has a level top).
+  double profile_min_length = 2.5;  ///< m
+  double min_profile_drop = 0.2;    ///< m
+  double profile_bin = 0.4;         ///< m
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("enabled", self.enabled);
+    visit("road_height", self.road_height, nonNegative("m"));
+    visit("body_min", self.body_min, nonNegative("m"));
+    visit("body_max", self.body_max, positive("m"));
+    visit("bin_deg", self.bin_deg, interval(0.01, 10.0, "deg"));
+    visit("pass_margin", self.pass_margin, nonNegative("m"));
+    visit("max_pass_share", self.max_pass_share, fraction());
+    visit("min_fill", self.min_fill, fraction());
+    visit("max_face_share", self.max_face_share, positive());
+    visit("min_face_allowance", self.min_face_allowance, positive("m"));
+    visit("max_face_distance", self.max_face_distance, positive("m"));
+    visit("min_points", self.min_points, nonNegative("points"));
+    visit("min_body_points", self.min_body_points, nonNegative("points"));
+    visit("points_reference_step_deg", self.points_reference_step_deg, positive("deg"));
+    visit("min_top", self.min_top, nonNegative("m"));
+    visit("min_extent", self.min_extent, nonNegative("m"));
+    visit("max_car_top", self.max_car_top, positive("m"));
+    visit("max_top", self.max_top, positive("m"));
+    visit("max_car_length", self.max_car_length, positive("m"));
+    visit("tall_max_face_distance", self.tall_max_face_distance, positive("m"));
+    visit("tall_body_min", self.tall_body_min, nonNegative("m"));
+    visit("tall_body_max", self.tall_body_max, positive("m"));
+    visit("tall_clearance", self.tall_clearance, nonNegative("m"));
+    visit("tall_clearance_per_m", self.tall_clearance_per_m, nonNegative("m/m"));
+    visit("tall_clear_share", self.tall_clear_share, fraction());
+    visit("tall_bin", self.tall_bin, atLeast(0.05, "m"));
+    visit("profile_min_length", self.profile_min_length, nonNegative("m"));
+    visit("min_profile_drop", self.min_profile_drop, nonNegative("m"));
+    visit("profile_bin", self.profile_bin, atLeast(0.05, "m"));
+  }
+};
+
 /// Geometric fitting: the L-shape rectangle, then a size prior that grows it away from the
 /// sensor.
 struct GeometricFitConfig {
@@ -284,6 +382,7 @@ struct CuboidConfig {
   FreeSpaceConfig free_space;
   ModelFitConfig model;
   ClickConfig click;
+  VehicleEvidenceConfig evidence;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -296,6 +395,7 @@ struct CuboidConfig {
     visit("free_space", self.free_space);
     visit("model", self.model);
     visit("click", self.click);
+    visit("evidence", self.evidence);
   }
 };
 

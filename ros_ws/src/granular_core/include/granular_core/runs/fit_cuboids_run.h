@@ -41,7 +41,8 @@ struct FitCuboidsOptions {
   /// The Background decision (kSegments): a classifier trained with Background objects; the
   /// segments it calls segmentation.background.label get no cuboid, the others its class and
   /// score where the fitter gives no label (kUnknownLabel) and the class is not Background
-  /// (kept as not sure enough). Null: every segment gets a cuboid.
+  /// (kept as not sure enough). Null: the zero-shot vehicle decision (CuboidConfig::evidence,
+  /// the objects segmentation only) decides which segments get a cuboid.
   const SupervisedClassifier* classifier = nullptr;
   /// The class models, for the model-based method.
   std::vector<LabelledModel> models;
@@ -61,6 +62,9 @@ struct FitCuboidsSummary {
   std::size_t objects = 0;  ///< segments or valid detections given to the fitter
   std::size_t fitted = 0;   ///< cuboids written (the others had too few points)
   std::size_t called_background = 0;  ///< segments the classifier called Background
+  /// Segments the zero-shot vehicle decision (CuboidConfig::evidence, segments without a
+  /// classifier) gave no cuboid, by verdict name.
+  std::map<std::string, std::size_t> not_vehicles;
   std::map<std::string, std::size_t> labels;  ///< cuboids per label
   /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
   std::vector<std::string> frames_skipped;

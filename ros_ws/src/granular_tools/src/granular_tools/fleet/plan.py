@@ -168,10 +168,11 @@ class FleetConfig:
         return files
 
     def extraction_key(self, identity, learns_only):
+        spec = self.extraction_spec("", "", learns_only)
         return digest({"bag": identity, "learns_only": learns_only,
-                       "thresholds": self.extraction_spec("", "", learns_only)["thresholds"],
-                       "boxes": self.boxes, "sensor": [self.sensor_height, self.azimuth_step,
-                                                       self.prior_classes],
+                       "thresholds": spec["thresholds"], "boxes": spec["boxes"],
+                       "sensor": [self.sensor_height, self.azimuth_step, self.prior_classes]
+                       if spec["boxes"] == "segment" else None,
                        "config": self._configuration()})
 
     def models_key(self, extraction_keys):

@@ -20,7 +20,7 @@ import time
 
 from ..output import (OutputError, OutputFolder, claimed_folder, resolve, run_main,
                       write_atomically)
-from ..runners.stages import StageError, add_runner_options, bad_argument, positive_number
+from ..runners.stages import StageError, bad_argument, positive_number
 from . import plan, report, tasks
 from .identity import BagIdentityError, bag_identity
 
@@ -423,9 +423,10 @@ def main(argv=None):
                     "bag its objects classified, then one report (OUT/index.md, "
                     "OUT/report/index.md). Without --scheduler, on this machine (one worker "
                     "process per core). OUT/fleet.json holds each bag's status; the same "
-                    "command again does only what is not done yet. Exit status: 0 every bag "
-                    "done, 1 a bag or stage failed (the others finish), 2 bad arguments, "
-                    "130/143 interrupted.")
+                    "command again does only what is not done yet. Progress (bags finished, "
+                    "objects per second, time left) on stderr. Folders and figures: "
+                    "docs/fleet.md. Exit status: 0 every bag done, 1 a bag or stage failed "
+                    "(the others finish), 2 bad arguments, 130/143 interrupted.")
     parser.add_argument("--bags", required=True, nargs="+", metavar="BAGS",
                         help="the drives to classify: paths or quoted glob patterns "
                              "('drives/*.bag'), comma- or space-separated")
@@ -477,9 +478,17 @@ def main(argv=None):
                         help="folder of the tools' YAML files (default: their built-in "
                              "defaults)")
     parser.add_argument("--keep-frames", action="store_true",
-                        help="keep each bag's frames (PCD + JSON; by default removed once its "
-                             "objects are cut out)")
-    add_runner_options(parser)
+                        help="keep each bag's frames (PCD + JSON) beside its objects "
+                             "(default: written on the worker's own disk and removed once the "
+                             "bag's objects are cut out)")
+    parser.add_argument("--relative-to", metavar="FOLDER",
+                        help="resolve relative paths and patterns against FOLDER (the launch "
+                             "file passes the folder roslaunch was started from; default: the "
+                             "working folder)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="redo every bag, the models and the classifiers, whatever "
+                             "OUT/fleet.json says is done (and write into an OUT another "
+                             "granular tool wrote)")
     args = parser.parse_args(argv)
     started = time.monotonic()
 

@@ -1,0 +1,309 @@
+#include "granular_core/cuboids/vehicle_evidence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace granular {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double median(std::vector<double> values) {
+  if (values.empty()) {
+    return 0.0;
+  }
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+}  // namespace
+
+const char* verdictName(VehicleVerdict verdict) {
+  switch (verdict) {
+    case VehicleVerdict::kVehicle: return "vehicle";
+    case VehicleVerdict::kTooFewPoints: return "too_few_points";
+    case VehicleVerdict::kTooLow: return "too_low";
+    case VehicleVerdict::kTooTall: return "too_tall";
+    case VehicleVerdict::kTooSmall: return "too_small";
+    case VehicleVerdict::kSeeThrough: return "see_through";
+    case VehicleVerdict::kGaps: return "gaps";
+    case VehicleVerdict::kNotASurface: return "not_a_surface";
+    case VehicleVerdict::kTallOnTheRoad: return "tall_on_the_road";
+    case VehicleVerdict::kFlatTop: return "flat_top";
+    case VehicleVerdict::kTooLong: return "too_long";
+  }
+  return "?";
+}
+
+VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
+                                 const VehicleEvidenceConfig& config, double azimuth_step_deg)
+    : config_(config),
+      ground_(ground),
+      sensor_height_(ground.heightOf(Eigen::Vector3d::Zero())) {
+  const double bin_deg = std::max(config.bin_deg, 2.0 * azimuth_step_deg);
+  // A ring gives an object one return per azimuth step across it: a sparser sensor gives
+  // proportionally fewer.
+  const double density = std::min(1.0, config.points_reference_step_deg / azimuth_step_deg);
+  min_points_ = static_cast<std::size_t>(std::ceil(config.min_points * density));
+  min_body_points_ = static_cast<std::size_t>(std::ceil(config.min_body_points * density));
+  bins_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(360.0 / bin_deg)));
+  bin_ = 2.0 * kPi / static_cast<double>(bins_);
+  // A counting sort of the finite returns by bin.
+  std::vector<std::uint32_t> bin_of(cloud.size(), 0);
+  first_.assign(bins_ + 1, 0);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const PointXYZIT& p = cloud[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+      bin_of[i] = static_cast<std::uint32_t>(bins_);
+      continue;
+    }
+    bin_of[i] = static_cast<std::uint32_t>(binOf(p.x, p.y));
+    ++first_[bin_of[i] + 1];
+  }
+  for (std::size_t b = 0; b < bins_; ++b) {
+    first_[b + 1] += first_[b];
+  }
+  returns_.resize(first_[bins_]);
+  std::vector<std::uint32_t> next(first_.begin(), first_.end() - 1);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (bin_of[i] == bins_) {
+      continue;
+    }
+    const PointXYZIT& p = cloud[i];
+    const Eigen::Vector3d point(p.x, p.y, p.z);
+    returns_[next[bin_of[i]]++] = {static_cast<float>(std::hypot(point.x(), point.y())),
+                                   static_cast<float>(ground_.heightOf(point))};
+  }
+}
+
+std::size_t VehicleEvidence::binOf(double x, double y) const {
+  const auto bin = static_cast<std::size_t>((std::atan2(y, x) + kPi) / bin_);
+  return bin >= bins_ ? bins_ - 1 : bin;
+}
+
+VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
+                                     const OrientedBox& cuboid) const {
+  VehicleCues cues;
+  // The object's points: height above the road, range, azimuth bin (unwrapped about the
+  // object's mean direction, so that an object behind the sensor spans no seam), and its
+  // coordinates along the cuboid's axes.
+  const double yaw = cuboid.yaw();
+  const double cos_yaw = std::cos(yaw), sin_yaw = std::sin(yaw);
+  Eigen::Vector2d direction = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector3d& p : points) {
+    direction += p.head<2>().normalized();
+  }
+  const long centre_bin = static_cast<long>(binOf(direction.x(), direction.y()));
+  const long half = static_cast<long>(bins_ / 2);
+  struct Seen {
+    long bin;
+    double range, height, u, v;
+  };
+  std::vector<Seen> seen;
+  seen.reserve(points.size());
+  double u_min = 1e9, u_max = -1e9, v_min = 1e9, v_max = -1e9;
+  for (const Eigen::Vector3d& p : points) {
+    const double height = ground_.heightOf(p);
+    if (height < config_.road_height) {
+      continue;  // the road under and around it
+    }
+    long bin = static_cast<long>(binOf(p.x(), p.y())) - centre_bin;
+    bin = ((bin + half) % static_cast<long>(bins_) + static_cast<long>(bins_)) %
+              static_cast<long>(bins_) -
+          half;
+    const double u = p.x() * cos_yaw + p.y() * sin_yaw;
+    const double v = -p.x() * sin_yaw + p.y() * cos_yaw;
+    seen.push_back({bin, std::hypot(p.x(), p.y()), height, u, v});
+    ++cues.points;
+    cues.top = std::max(cues.top, height);
+    u_min = std::min(u_min, u), u_max = std::max(u_max, u);
+    v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+  }
+  if (seen.empty()) {
+    return cues;
+  }
+  const bool u_longer = u_max - u_min >= v_max - v_min;
+  cues.seen_length = u_longer ? u_max - u_min : v_max - v_min;
+  cues.seen_width = u_longer ? v_max - v_min : u_max - u_min;
+
+  // The faces turned to the sensor (the origin): the near end of each axis.
+  const double sensor_u = 0.0, sensor_v = 0.0;
+  const double near_u = std::abs(u_min - sensor_u) < std::abs(u_max - sensor_u) ? u_min : u_max;
+  const double near_v = std::abs(v_min - sensor_v) < std::abs(v_max - sensor_v) ? v_min : v_max;
+  // The band where the body is solid: a car's below its windows; a truck's or bus's higher,
+  // over the wheels and the gap under a cargo box.
+  const bool tall = cues.top > config_.max_car_top;
+  const double band_min = tall ? config_.tall_body_min : config_.body_min;
+  const double band_max = tall ? config_.tall_body_max : config_.body_max;
+  std::vector<double> face_distances;
+  struct Span {
+    double near = 1e9, far = -1e9;
+    std::size_t body = 0;
+  };
+  std::map<long, Span> body_bins;
+  long bin_min = half, bin_max = -half;
+  double nearest = 1e9;
+  for (const Seen& s : seen) {
+    bin_min = std::min(bin_min, s.bin);
+    bin_max = std::max(bin_max, s.bin);
+    nearest = std::min(nearest, s.range);
+    if (s.height < band_min || s.height > band_max) {
+      continue;
+    }
+    ++cues.body_points;
+    face_distances.push_back(std::min(std::abs(s.u - near_u), std::abs(s.v - near_v)));
+    Span& span = body_bins[s.bin];
+    span.near = std::min(span.near, s.range);
+    span.far = std::max(span.far, s.range);
+    ++span.body;
+  }
+  cues.face_distance = median(face_distances);
+  const auto frameBin = [&](long bin) {
+    const long bins = static_cast<long>(bins_);
+    return static_cast<std::size_t>(((bin + centre_bin) % bins + bins) % bins);
+  };
+
+  // Bins across it without a body return are gaps, unless something nearer hides its body
+  // there (a car parked behind another shows only its roof).
+  std::size_t bins_seen = 0;
+  for (long bin = bin_min; bin <= bin_max; ++bin) {
+    if (body_bins.count(bin) > 0) {
+      ++bins_seen;
+      continue;
+    }
+    const std::size_t frame_bin = frameBin(bin);
+    bool hidden = false;
+    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1] && !hidden; ++r) {
+      // A nearer return whose ray would have met the body band at the object's range.
+      const Return& nearer = returns_[r];
+      const double at_object =
+          sensor_height_ + (nearer.height - sensor_height_) * nearest / nearer.range;
+      hidden = nearer.range < nearest - config_.pass_margin &&
+               nearer.height > config_.road_height && at_object >= band_min &&
+               at_object <= band_max;
+    }
+    if (!hidden) {
+      ++bins_seen;
+    }
+  }
+  cues.fill = bins_seen == 0 ? 1.0
+                             : static_cast<double>(body_bins.size()) /
+                                   static_cast<double>(bins_seen);
+
+  // Rays through the body band of the inner bins: those that returned from behind the object,
+  // having stayed in the band from its near side to its far side (not those that dipped under
+  // a body standing clear of the road).
+  std::size_t passed = 0, blocked = 0;
+  for (const auto& [bin, span] : body_bins) {
+    if (bin == bin_min || bin == bin_max) {
+      continue;  // an edge bin holds rays beside the object too
+    }
+    blocked += span.body;
+    const std::size_t frame_bin = frameBin(bin);
+    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1]; ++r) {
+      const Return& behind = returns_[r];
+      if (behind.range <= span.far + config_.pass_margin) {
+        continue;
+      }
+      // Where its ray crossed the object's near and far ranges, above the road.
+      const double slope = (behind.height - sensor_height_) / behind.range;
+      const double at_near = sensor_height_ + slope * span.near;
+      const double at_far = sensor_height_ + slope * span.far;
+      if (std::min(at_near, at_far) >= band_min && std::max(at_near, at_far) <= band_max) {
+        ++passed;
+      }
+    }
+  }
+  cues.pass_share = passed + blocked == 0
+                        ? 0.0
+                        : static_cast<double>(passed) / static_cast<double>(passed + blocked);
+
+  // The road under its body, along the longer side seen: the lowest return per piece.
+  const double length_min = u_longer ? u_min : v_min;
+  const auto pieces = static_cast<std::size_t>(cues.seen_length / config_.tall_bin) + 1;
+  std::vector<const Seen*> lowest(pieces, nullptr);
+  for (const Seen& s : seen) {
+    const double along = (u_longer ? s.u : s.v) - length_min;
+    const auto piece = std::min(pieces - 1, static_cast<std::size_t>(along / config_.tall_bin));
+    if (lowest[piece] == nullptr || s.height < lowest[piece]->height) {
+      lowest[piece] = &s;
+    }
+  }
+  std::size_t clear = 0, held = 0;
+  for (const Seen* low : lowest) {
+    if (low != nullptr) {
+      ++held;
+      clear += low->height > config_.tall_clearance + config_.tall_clearance_per_m * low->range
+                   ? 1
+                   : 0;
+    }
+  }
+  cues.clear_share = held == 0 ? 0.0 : static_cast<double>(clear) / static_cast<double>(held);
+
+  // The top along the longer side seen: how much lower its lower end is than its middle.
+  const auto tops = static_cast<std::size_t>(cues.seen_length / config_.profile_bin) + 1;
+  std::vector<double> top(tops, -1.0);
+  for (const Seen& s : seen) {
+    const double along = (u_longer ? s.u : s.v) - length_min;
+    const auto piece = std::min(tops - 1, static_cast<std::size_t>(along / config_.profile_bin));
+    top[piece] = std::max(top[piece], s.height);
+  }
+  const std::size_t end = std::max<std::size_t>(1, tops / 4);
+  double middle = -1.0, ends = 1e9;
+  for (std::size_t piece = 0; piece < tops; ++piece) {
+    if (top[piece] < 0.0) {
+      continue;
+    }
+    if (piece < end || piece + end >= tops) {
+      ends = std::min(ends, top[piece]);
+    } else {
+      middle = std::max(middle, top[piece]);
+    }
+  }
+  cues.profile_drop = middle < 0.0 || ends > 1e8 ? 0.0 : middle - ends;
+  return cues;
+}
+
+VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
+  if (cues.points < min_points_ || cues.body_points < min_body_points_) {
+    return VehicleVerdict::kTooFewPoints;
+  }
+  if (cues.top < config_.min_top) {
+    return VehicleVerdict::kTooLow;
+  }
+  if (cues.top > config_.max_top) {
+    return VehicleVerdict::kTooTall;
+  }
+  if (cues.seen_length < config_.min_extent) {
+    return VehicleVerdict::kTooSmall;
+  }
+  if (cues.pass_share > config_.max_pass_share) {
+    return VehicleVerdict::kSeeThrough;
+  }
+  if (cues.fill < config_.min_fill) {
+    return VehicleVerdict::kGaps;
+  }
+  const double face_allowance =
+      std::clamp(config_.max_face_share * cues.seen_width, config_.min_face_allowance,
+                 std::max(config_.min_face_allowance, config_.max_face_distance));
+  if (cues.face_distance > face_allowance) {
+    return VehicleVerdict::kNotASurface;
+  }
+  const bool tall = cues.top > config_.max_car_top;
+  if (!tall && cues.seen_length > config_.max_car_length) {
+    return VehicleVerdict::kTooLong;
+  }
+  if (tall && (cues.clear_share < config_.tall_clear_share ||
+               cues.face_distance > config_.tall_max_face_distance)) {
+    return VehicleVerdict::kTallOnTheRoad;
+  }
+  if (!tall && cues.seen_length >= config_.profile_min_length &&
+      cues.profile_drop < config_.min_profile_drop) {
+    return VehicleVerdict::kFlatTop;
+  }
+  return VehicleVerdict::kVehicle;
+}
+
+}  // namespace granular

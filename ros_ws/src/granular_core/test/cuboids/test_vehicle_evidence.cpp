@@ -1,0 +1,187 @@
+// VehicleEvidence: a canopy that rays pass through is no vehicle, an opaque box of the same
+// size is one, on a scan cast ray by ray.
+#include <cmath>
+#include <optional>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "granular_core/cuboids/vehicle_evidence.h"
+
+namespace granular {
+namespace {
+
+constexpr double kSensorHeight = 1.73;
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kAzimuthStepDeg = 0.2;
+
+// An axis-aligned box in the sensor frame, standing on the road.
+struct Block {
+  Eigen::Vector3d low, high;
+  /// Per metre inside it, the chance of a return (0: opaque, its faces return every ray).
+  double density = 0.0;
+};
+
+// Where the ray `direction` from the origin enters and leaves `block`, if it meets it.
+std::optional<std::pair<double, double>> crossing(const Eigen::Vector3d& direction,
+                                                  const Block& block) {
+  double enter = 0.0, leave = 1e9;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(direction[axis]) < 1e-12) {
+      if (0.0 < block.low[axis] || 0.0 > block.high[axis]) {
+        return std::nullopt;
+      }
+      continue;
+    }
+    double a = block.low[axis] / direction[axis], b = block.high[axis] / direction[axis];
+    if (a > b) {
+      std::swap(a, b);
+    }
+    enter = std::max(enter, a);
+    leave = std::min(leave, b);
+  }
+  if (enter >= leave) {
+    return std::nullopt;
+  }
+  return std::make_pair(enter, leave);
+}
+
+// A 64-ring scan (-24.9 to 2 degrees, kAzimuthStepDeg apart, 60 degrees either side of +x) of
+// a flat road kSensorHeight below the sensor and `blocks`. A volume returns a ray at a random
+// free path inside it, or lets it through to the road.
+Cloud scan(const std::vector<Block>& blocks, unsigned seed = 1) {
+  std::mt19937 random(seed);
+  Cloud cloud;
+  for (int ring = 0; ring < 64; ++ring) {
+    const double elevation = (-24.9 + ring * 26.9 / 63.0) * kDeg;
+    for (double azimuth = -60.0; azimuth <= 60.0; azimuth += kAzimuthStepDeg) {
+      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth * kDeg),
+                                      std::cos(elevation) * std::sin(azimuth * kDeg),
+                                      std::sin(elevation));
+      double range = direction.z() < 0.0 ? -kSensorHeight / direction.z() : 1e9;
+      for (const Block& block : blocks) {
+        if (const auto through = crossing(direction, block)) {
+          const double hit =
+              block.density > 0.0
+                  ? through->first +
+                        std::exponential_distribution<double>(block.density)(random)
+                  : through->first;
+          if (hit < through->second || block.density == 0.0) {
+            range = std::min(range, hit);
+          }
+        }
+      }
+      if (range > 80.0) {
+        continue;
+      }
+      const Eigen::Vector3d p = direction * range;
+      cloud.push_back(PointXYZIT(float(p.x()), float(p.y()), float(p.z()), 0.0f, 0.0));
+    }
+  }
+  return cloud;
+}
+
+GroundPlane flatRoad() {
+  GroundPlane plane;
+  plane.offset = kSensorHeight;
+  return plane;
+}
+
+// A car-sized block 10 m ahead and a little to the left, seen at its corner.
+Block carSized(double density) {
+  return {{9.0, 1.0, -kSensorHeight}, {13.5, 2.8, -kSensorHeight + 1.5}, density};
+}
+
+// A car: its body up to 1 m, and a cabin over its middle up to 1.5 m (the roof higher than
+// bonnet and boot), as carSized(0) bounds it.
+std::vector<Block> car() {
+  return {{{9.0, 1.0, -kSensorHeight}, {13.5, 2.8, -kSensorHeight + 1.0}, 0.0},
+          {{10.2, 1.15, -kSensorHeight + 1.0}, {12.4, 2.65, -kSensorHeight + 1.5}, 0.0}};
+}
+
+// The returns inside `bounds` (above the road) and the cuboid it is.
+VehicleCues measured(const Cloud& cloud, const Block& bounds, VehicleVerdict& verdict) {
+  std::vector<Eigen::Vector3d> points;
+  for (const PointXYZIT& p : cloud) {
+    const Eigen::Vector3d point(p.x, p.y, p.z);
+    if ((point.array() >= bounds.low.array() - 1e-6).all() &&
+        (point.array() <= bounds.high.array() + 1e-6).all() &&
+        point.z() > -kSensorHeight + 0.05) {
+      points.push_back(point);
+    }
+  }
+  const OrientedBox cuboid((bounds.low + bounds.high) / 2.0, Eigen::Quaterniond::Identity(),
+                           bounds.high - bounds.low);
+  const VehicleEvidence evidence(cloud, flatRoad(), VehicleEvidenceConfig(), kAzimuthStepDeg);
+  const VehicleCues cues = evidence.measure(points, cuboid);
+  verdict = evidence.judge(cues);
+  return cues;
+}
+
+TEST(VehicleEvidenceTest, AnOpaqueCarIsAVehicle) {
+  VehicleVerdict verdict;
+  const VehicleCues cues = measured(scan(car()), carSized(0.0), verdict);
+  EXPECT_EQ(cues.pass_share, 0.0);  // nothing returns from behind an opaque body
+  EXPECT_GE(cues.fill, 0.95);
+  EXPECT_LT(cues.face_distance, 0.01);  // every body return on the faces turned to the sensor
+  EXPECT_NEAR(cues.top, 1.5, 0.05);
+  EXPECT_GT(cues.profile_drop, 0.4);  // bonnet and boot lower than the roof
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, ACanopyOfTheSameSizeThatRaysPassThroughIsBackground) {
+  // Foliage: on average a return every 1.5 m inside, so rays often cross its 1.8-4.5 m.
+  const Block canopy = carSized(1.0 / 1.5);
+  VehicleVerdict verdict;
+  const VehicleCues cues = measured(scan({canopy}), canopy, verdict);
+  EXPECT_GT(cues.pass_share, 0.15);
+  EXPECT_EQ(verdict, VehicleVerdict::kSeeThrough) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, ABushIsNoVehicle) {
+  // Returns within a metre or so inside: they spread through a volume, not over two faces.
+  const Block bush = carSized(1.0 / 0.6);
+  VehicleVerdict verdict;
+  const VehicleCues cues = measured(scan({bush}), bush, verdict);
+  EXPECT_GT(cues.face_distance, 0.1);
+  EXPECT_NE(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, AWallOrAHedgeLineIsNoCar) {
+  // As high as a car, but level along its 7 m.
+  const Block wall{{9.0, 1.0, -kSensorHeight}, {16.0, 1.3, -kSensorHeight + 1.5}, 0.0};
+  VehicleVerdict verdict;
+  measured(scan({wall}), wall, verdict);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooLong) << verdictName(verdict);
+  // A car's length, but a level top.
+  measured(scan({carSized(0.0)}), carSized(0.0), verdict);
+  EXPECT_EQ(verdict, VehicleVerdict::kFlatTop) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, TallObjectsStandingOnTheRoadAreNoVehicles) {
+  // 25 m away, where the highest ring (2 degrees up) passes 2.6 m above the road. A wall piece
+  // as tall as a bus reaches the road: no body clearance underneath.
+  const Block wall{{25.0, 1.0, -kSensorHeight}, {29.5, 3.5, -kSensorHeight + 3.0}, 0.0};
+  VehicleVerdict verdict;
+  VehicleCues cues = measured(scan({wall}), wall, verdict);
+  EXPECT_GT(cues.top, 2.2);
+  EXPECT_EQ(verdict, VehicleVerdict::kTallOnTheRoad) << verdictName(verdict);
+  // The same with its body 0.6 m clear of the road, as a bus's between the wheels.
+  const Block bus{{25.0, 1.0, -kSensorHeight + 0.6}, {29.5, 3.5, -kSensorHeight + 3.0}, 0.0};
+  cues = measured(scan({bus}), bus, verdict);
+  EXPECT_GT(cues.clear_share, 0.5);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, SmallAndLowThingsAreNoVehicles) {
+  const Block post{{9.0, 1.0, -kSensorHeight}, {9.3, 1.3, -kSensorHeight + 1.5}, 0.0};
+  VehicleVerdict verdict;
+  measured(scan({post}), post, verdict);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooSmall) << verdictName(verdict);
+  const Block kerb{{9.0, 1.0, -kSensorHeight}, {13.5, 2.8, -kSensorHeight + 0.6}, 0.0};
+  measured(scan({kerb}), kerb, verdict);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooLow) << verdictName(verdict);
+}
+
+}  // namespace
+}  // namespace granular

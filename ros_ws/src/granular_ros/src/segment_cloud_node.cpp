@@ -1,7 +1,8 @@
 // segment_cloud: boxes for clouds without detections (config/ground.yaml: the ground;
 // config/segmentation.yaml: the segments; config/cuboids.yaml under ~cuboids: a full-vehicle
-// cuboid fitted to each). Each cloud on ~input becomes a Detection3DArray on ~output, one
-// cuboid labelled "unknown" per segment, for the online classifier to classify.
+// cuboid fitted to each, and the zero-shot vehicle decision of ~cuboids/evidence on it). Each
+// cloud on ~input becomes a Detection3DArray on ~output, one cuboid labelled "unknown" per
+// segment judged a vehicle, for the online classifier to classify.
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -10,6 +11,8 @@
 
 #include <granular_core/cuboids/cuboid_fitter.h>
 #include <granular_core/cuboids/segment_views.h>
+#include <granular_core/cuboids/vehicle_evidence.h>
+#include <granular_core/ground/sensor.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <ros/ros.h>
@@ -22,11 +25,14 @@
 namespace {
 
 // The node's parameters: the ground's under ~ground (config/ground.yaml), the cuboids' under
-// ~cuboids (config/cuboids.yaml), the segmentation's (config/segmentation.yaml) and its own.
+// ~cuboids (config/cuboids.yaml), the segmentation's (config/segmentation.yaml), the sensor's
+// under ~sensor when given (config/sensors/NAME.yaml: its height and azimuth step over the
+// ground's and the segmentation's) and its own.
 struct SegmentCloudParameters {
   granular::GroundConfig ground;
   granular::CuboidConfig cuboids;
   granular::SegmentationStageConfig segmentation;
+  granular::SensorConfig sensor;
   double report_interval = 10.0;  ///< s between latency lines in the log
 
   template <class Self, class Visit>
@@ -34,11 +40,13 @@ struct SegmentCloudParameters {
     visit("ground", self.ground);
     visit("cuboids", self.cuboids);
     granular::SegmentationStageConfig::fields(self.segmentation, visit);
+    visit("sensor", self.sensor);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
 };
 
 void validate(const SegmentCloudParameters& parameters) {
+  granular::validate(parameters.sensor);
   granular::validate(parameters.ground);
   granular::validate(parameters.segmentation);
   granular::config::validateFields(parameters);
@@ -51,9 +59,15 @@ void validate(const SegmentCloudParameters& parameters) {
 class SegmentCloud {
  public:
   explicit SegmentCloud(ros::NodeHandle& node, ros::NodeHandle& private_node) {
-    const auto parameters =
-        granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
+    auto parameters = granular_ros::readNodeParameters<SegmentCloudParameters>(private_node);
+    // A sensor under ~sensor (online.launch's sensor:=, its sensor_height:= and
+    // azimuth_step:= laid over it) gives the ground's height and the segmentation's step.
+    if (private_node.hasParam("sensor")) {
+      parameters.ground.plane.sensor_height = parameters.sensor.mount_height;
+      parameters.segmentation.objects.azimuth_step_deg = parameters.sensor.azimuth_step_deg;
+    }
     config_ = parameters.segmentation;
+    evidence_config_ = parameters.cuboids.evidence;
     segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
     free_space_config_ = parameters.cuboids.free_space;
@@ -96,10 +110,20 @@ class SegmentCloud {
       }
     }
     const granular::SegmentViews views(cloud, segmentation, config_, free_space_config_);
+    std::optional<granular::VehicleEvidence> evidence;
+    if (evidence_config_.enabled && config_.method == granular::SegmentationMethod::kObjects) {
+      evidence.emplace(cloud, segmentation.ground.plane, evidence_config_,
+                       config_.objects.azimuth_step_deg);
+    }
     for (std::size_t i = 0; i < segmentation.segments.size(); ++i) {
       const granular::Segment& segment = segmentation.segments[i];
-      // A segment too thin for a cuboid keeps its own box.
-      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(views.view(i));
+      const granular::ObjectView view = views.view(i);
+      // A segment too thin for a cuboid keeps its own box, unless only vehicles are kept.
+      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(view);
+      if (evidence && (!cuboid || evidence->judge(evidence->measure(view.points, cuboid->box)) !=
+                                      granular::VehicleVerdict::kVehicle)) {
+        continue;
+      }
       lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
           cuboid ? cuboid->box : segment.box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
       detection.header = message->header;
@@ -115,6 +139,7 @@ class SegmentCloud {
   std::unique_ptr<granular::CuboidFitter> fitter_;
   granular::FreeSpaceConfig free_space_config_;
   granular::GroundPlaneConfig ground_plane_;
+  granular::VehicleEvidenceConfig evidence_config_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;
@@ -129,8 +154,10 @@ constexpr char kHelp[] =
     "\n"
     "Boxes for clouds without detections: each cloud on ~input (sensor_msgs/PointCloud2) becomes a\n"
     "Detection3DArray on ~output, one full-vehicle cuboid labelled \"unknown\" per segment above the\n"
-    "ground, for the online classifier. Parameters: the ground's under ~ground (config/ground.yaml),\n"
-    "the cuboids' under ~cuboids (config/cuboids.yaml), the segmentation's\n"
+    "ground that the zero-shot vehicle decision keeps (~cuboids/evidence), for the online\n"
+    "classifier. Parameters: the ground's under ~ground (config/ground.yaml), the sensor's under\n"
+    "~sensor (config/sensors/NAME.yaml), the cuboids' under ~cuboids (config/cuboids.yaml), the\n"
+    "segmentation's\n"
     "(config/segmentation.yaml) and its own (docs/segmentation.md); a misspelt one stops it at\n"
     "start-up, naming the known ones. Needs a ROS master.\n"
     "\n"

@@ -164,33 +164,49 @@ def started(commands, log_folder):
             log.close()
 
 
+def busy_worker(address):
+    """The name of a worker of the scheduler at `address` that is running a task; None when
+    none is."""
+    from distributed import Client
+
+    with Client(address, timeout="30s") as client:
+        names = {worker: info["name"] for worker, info in
+                 client.scheduler_info()["workers"].items()}
+        busy = sorted(names[worker] for worker, keys in client.processing().items() if keys)
+    return busy[0] if busy else None
+
+
 def test_cluster_loses_a_worker_and_ends_with_the_same_results(drives, local_run, tmp_path):
     dask = pathlib.Path(sys.executable).parent
     address = f"tcp://127.0.0.1:{free_port()}"
-    worker = [dask / "dask-worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
-              "--host", "127.0.0.1"]
+    workers = [[dask / "dask-worker", address, "--nthreads", "1", "--no-nanny",
+                "--no-dashboard", "--host", "127.0.0.1", "--name", str(k)] for k in range(2)]
     out = tmp_path / "results"
     with started([[dask / "dask-scheduler", "--host", "127.0.0.1", "--port",
-                   address.rsplit(":", 1)[1], "--no-dashboard"], worker, worker],
-                 tmp_path) as (scheduler, first, second):
+                   address.rsplit(":", 1)[1], "--no-dashboard"], *workers],
+                 tmp_path) as (scheduler, *worker_processes):
         fleet = subprocess.Popen(hostile.tool("granular_tools", "run_fleet") + [
             "--bags", str(drives / "drive*.bag"), "--out", str(out), "--scheduler", address,
             *OPTIONS], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:
-            # Both workers are busy once the first bag's tools have started.
-            deadline = time.monotonic() + TIMEOUT
-            while not list(out.glob("bags/*/objects")) and time.monotonic() < deadline:
+            # The worker to kill is one the scheduler says runs a task, once its tools started.
+            deadline, victim = time.monotonic() + TIMEOUT, None
+            while victim is None and time.monotonic() < deadline:
                 assert fleet.poll() is None, fleet.communicate()
+                if list(out.glob("bags/*/log.txt")):
+                    victim = busy_worker(address)
                 time.sleep(0.05)
-            assert fleet.poll() is None, "the run ended before a worker could be killed"
-            first.kill()
+            assert victim is not None and fleet.poll() is None, "no task to interrupt"
+            killed = worker_processes[int(victim)]
+            killed.kill()
             output, errors = fleet.communicate(timeout=TIMEOUT)
         finally:
             if fleet.poll() is None:
                 fleet.kill()
                 fleet.wait()
-        assert first.wait() == -signal.SIGKILL
-        assert second.poll() is None and scheduler.poll() is None
+        assert killed.wait() == -signal.SIGKILL
+        assert all(p.poll() is None for p in worker_processes if p is not killed)
+        assert scheduler.poll() is None
     assert fleet.returncode == 0, errors
     assert model_files(out / "models") == model_files(local_run / "models")
     assert bag_predictions(out) == bag_predictions(local_run)

@@ -75,6 +75,9 @@ class FitCuboidsFolderTest : public TemporaryFolderTest {
     // Exact returns: the paper's d0. The default's 0.1 m, for a real sensor's noise, leaves the
     // closeness flat within about a degree of an exact corner.
     config.lshape.closeness_d0 = 0.01;
+    // The car here is a box's faces, not a scan: the vehicle decision, which would call its
+    // level top a wall's, is tested in test_vehicle_evidence (and once below).
+    config.evidence.enabled = false;
     return config;
   }
 
@@ -143,6 +146,19 @@ TEST_F(FitCuboidsFolderTest, SegmentsAreFittedAndTheFramesBoxesNeverRead) {
     // A frame without a detections file takes its header's stamp from its name.
     EXPECT_EQ(header.secs * 1000000000LL + header.nsecs, std::stoll(stamp));
   }
+}
+
+TEST_F(FitCuboidsFolderTest, TheVehicleDecisionDropsSegmentsAndCountsWhy) {
+  CuboidConfig config = carPrior();
+  // The scene is not ray-cast: the road's rings go on behind the box's faces, as rays through
+  // foliage do.
+  config.evidence.enabled = true;
+  const fs::path out = root_ / "cuboids";
+  const FitCuboidsSummary summary =
+      fitCuboidsFolder(frames_, out, config, options(CuboidInputs::kSegments));
+  EXPECT_EQ(summary.fitted, 0u);
+  EXPECT_EQ(summary.not_vehicles, (std::map<std::string, std::size_t>{{"see_through", 2}}));
+  EXPECT_TRUE(readDetectionsJson(out / (stamp_ + ".json")).empty());
 }
 
 TEST_F(FitCuboidsFolderTest, SegmentsDoNotNeedAReadableDetectionsFile) {

@@ -149,15 +149,25 @@ class Filters:
     max_range: float = None  # metres, x-y distance of the true centre from the frame's origin
     min_points: int = None  # points of the frame's cloud inside the true box
     labels: tuple = None  # true labels evaluated
+    # degrees either side of straight ahead (+x): the camera's view of camera-labelled data
+    field_of_view: float = None
 
     def active(self):
-        return self.max_range is not None or self.min_points is not None or bool(self.labels)
+        return (self.max_range is not None or self.min_points is not None or bool(self.labels)
+                or self.field_of_view is not None)
+
+    def outside(self, centre):
+        """Whether a centre lies beyond the range or outside the field of view."""
+        if self.max_range is not None and math.hypot(*centre[:2]) > self.max_range:
+            return True
+        return (self.field_of_view is not None and
+                abs(math.degrees(math.atan2(centre[1], centre[0]))) > self.field_of_view)
 
     def why_ignored(self, truth, points=None):
         """None when the truth is evaluated, else the reason it is "don't care"."""
         if self.labels and truth.label not in self.labels:
             return "label"
-        if self.max_range is not None and math.hypot(*truth.box.centre[:2]) > self.max_range:
+        if self.outside(truth.box.centre):
             return "range"
         if self.min_points is not None and points < self.min_points:
             return "points"
@@ -196,11 +206,9 @@ def evaluate_frame(truths, predictions, filters, class_map, gate, xyz=None):
     ignored_predictions = {}
     for ti, pi in match([truths[i] for i in dont_care], [predictions[j] for j in left], gate):
         ignored_predictions[left[pi]] = f"matched a truth ignored for its {ignored[dont_care[ti]]}"
-    if filters.max_range is not None:
-        for j in left:
-            if j not in ignored_predictions and \
-                    math.hypot(*predictions[j].box.centre[:2]) > filters.max_range:
-                ignored_predictions[j] = "beyond the range"
+    for j in left:
+        if j not in ignored_predictions and filters.outside(predictions[j].box.centre):
+            ignored_predictions[j] = "beyond the range or outside the field of view"
     return FrameResult(truths, predictions, ignored, pairs, ignored_predictions, points)
 
 
@@ -390,7 +398,8 @@ def evaluate(settings, reporter=None):
             "gate_m": settings.gate,
             "matching": "Hungarian assignment on the x-y centre distance, pairs farther than "
                         "the gate never match; the same pairs for every criterion",
-            "max_range_m": filters.max_range, "min_points": filters.min_points,
+            "max_range_m": filters.max_range, "field_of_view_deg": filters.field_of_view,
+            "min_points": filters.min_points,
             "labels": list(filters.labels) if filters.labels else None,
             "class_map": {k: list(v) for k, v in sorted(settings.class_map.items())},
             "class_map_source": settings.class_map_source,

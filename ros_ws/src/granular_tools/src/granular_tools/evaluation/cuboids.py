@@ -69,6 +69,8 @@ def write_index(path, summary):
     overall, settings, frames = summary["overall"], summary["settings"], summary["frames"]
     filters = [f"true centre within {settings['max_range_m']:g} m (x-y) of the sensor"
                if settings["max_range_m"] is not None else None,
+               f"true centre within {settings['field_of_view_deg']:g} degrees of straight ahead"
+               if settings.get("field_of_view_deg") is not None else None,
                f"at least {settings['min_points']} points inside the true box"
                if settings["min_points"] is not None else None,
                f"true labels {', '.join(settings['labels'])}" if settings["labels"] else None]
@@ -233,7 +235,7 @@ def parser():
                     "done, 1 failed, 2 bad option or class map, 130/143 interrupted.",
         epilog="Truth frames without a predictions file count as frames with no predictions; "
                "prediction files without truth are ignored. Truths left out by --max-range, "
-               "--min-points or --labels are \"don't care\": not counted as missed, and a "
+               "--field-of-view, --min-points or --labels are \"don't care\": not counted as missed, and a "
                "prediction matched to one is not a false positive (nor is an unmatched "
                "prediction beyond --max-range). See docs/cuboids.md.")
     p.add_argument("--truth", required=True, metavar="T",
@@ -251,6 +253,10 @@ def parser():
     p.add_argument("--max-range", type=_positive, metavar="M",
                    help="evaluate only truths whose centre is within M metres (x-y) of the "
                         "frame's origin, the sensor (default: no limit)")
+    p.add_argument("--field-of-view", type=_positive, metavar="DEG",
+                   help="evaluate only truths within DEG degrees either side of straight ahead "
+                        "(+x), and ignore unmatched predictions outside them: the camera's view "
+                        "of camera-labelled data (KITTI: 40; default: all around)")
     p.add_argument("--min-points", type=_count, metavar="N",
                    help="evaluate only truths with at least N points of the frame's cloud "
                         "inside the box (needs --truth to be a frames folder)")
@@ -274,7 +280,8 @@ def main(argv=None):
             class_map, source = load_class_map(args.class_map), args.class_map
         settings = Settings(args.truth, args.predicted, class_map,
                             Filters(args.max_range, args.min_points,
-                                    tuple(args.labels) if args.labels else None),
+                                    tuple(args.labels) if args.labels else None,
+                                    args.field_of_view),
                             args.gate, source)
         reporter = None if args.quiet else progress.Reporter(TOOL, unit="frames")
         # Entered first: an output that may not be written is refused before the work.

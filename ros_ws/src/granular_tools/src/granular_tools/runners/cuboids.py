@@ -17,7 +17,7 @@ import time
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
 from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
                      bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
-                     frames_stage, positive_number, run_tool)
+                     frames_stage, positive_number, run_tool, sensor_option)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
@@ -33,6 +33,7 @@ class CuboidsRun(ConfigFolder):
     models: str = None
     classifier: str = None      # the Background decision on segments
     config_dir: str = None
+    sensor: str = None           # config/sensors/ name, a sensor file or auto
     sensor_height: float = None
     azimuth_step: float = None
     prior_classes: str = None
@@ -152,6 +153,7 @@ def main(argv=None):
             models=resolve(args.models or None, args.relative_to),
             classifier=resolve(args.classifier or None, args.relative_to),
             config_dir=resolve(args.config_dir, args.relative_to),
+            sensor=sensor_option(args.sensor, args.relative_to),
             sensor_height=positive_number(args.sensor_height, "sensor_height"),
             azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),
             prior_classes=args.prior_classes or None,

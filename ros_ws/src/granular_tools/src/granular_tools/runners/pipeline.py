@@ -22,7 +22,7 @@ from ..output import (Interrupted, OutputError, check_output_folder, claimed_fol
                       run_main)
 from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
                      bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
-                     frames_stage, positive_number, run_tool)
+                     frames_stage, positive_number, run_tool, sensor_option)
 
 STAGES = ("frames", "objects", "models")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
@@ -41,6 +41,7 @@ class PipelineRun(ConfigFolder):
     config_dir: str = None
     overwrite: bool = False
     boxes: str = "detections"
+    sensor: str = None           # config/sensors/ name, a sensor file or auto
     sensor_height: float = None  # boxes "segment": the sensor above the road (m) ...
     azimuth_step: float = None   # ... and its angle between returns (deg)
     prior_classes: str = None    # ... and the cuboids' size priors
@@ -204,7 +205,8 @@ def main(argv=None):
             thresholds=thresholds_from(args.n_thresh), models_from=models_from,
             model_method=args.model_method,
             config_dir=resolve(args.config_dir, args.relative_to), overwrite=args.overwrite,
-            boxes=args.boxes, sensor_height=positive_number(args.sensor_height, "sensor_height"),
+            boxes=args.boxes, sensor=sensor_option(args.sensor, args.relative_to),
+            sensor_height=positive_number(args.sensor_height, "sensor_height"),
             azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),
             prior_classes=args.prior_classes or None)
         run(pipeline_run)

@@ -13,7 +13,7 @@ from ..bag_to_files.config import BagToFilesConfig
 from ..bag_to_files.offline import convert_into_new_folder, has_detections
 from ..bags import BagError
 from ..config_loading import ConfigError, load_yaml_over
-from ..output import Interrupted, OutputError, write_atomically
+from ..output import Interrupted, OutputError, resolve, write_atomically
 from ..pcd import CloudError
 
 FAILED_MARKER = "FAILED"
@@ -99,24 +99,27 @@ def frames_stage(bag, folder, config, overwrite):
 
 
 # The simulator's sensor and vehicles: the runners' defaults, as the launch files' (cuboids,
-# pipeline and online.launch repeat them; test_run_cuboids checks that they agree).
-SIMULATOR_SENSOR = {"sensor_height": "2.3", "azimuth_step": "1.0",
+# pipeline and online.launch repeat them; test_run_cuboids checks that they agree). The
+# height and step are overrides of the sensor file's, empty by default.
+SIMULATOR_SENSOR = {"sensor": "simulator", "sensor_height": "", "azimuth_step": "",
                     "prior_classes": "Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus"}
 
 
 def add_sensor_options(parser):
-    """--sensor-height, --azimuth-step and --prior-classes: the sensor and the vehicles that
-    fit_cuboids needs to know; the simulator's by default, as in the launch files. An empty
-    value leaves fit_cuboids' own default (config/ground.yaml's height, KITTI's step and
-    config/cuboids.yaml's priors)."""
+    """--sensor, --sensor-height, --azimuth-step and --prior-classes: the sensor and the
+    vehicles that fit_cuboids needs to know; the simulator's by default, as in the launch
+    files. An empty --prior-classes leaves config/cuboids.yaml's priors."""
+    parser.add_argument("--sensor", default=SIMULATOR_SENSOR["sensor"], metavar="NAME|FILE|auto",
+                        help="the LiDAR: config/sensors/NAME.yaml (simulator, hdl64e, os1_64, "
+                             "vlp16, pandar64), a sensor file, or auto (measured from the "
+                             "bag's clouds; default %(default)s)")
     parser.add_argument("--sensor-height", default=SIMULATOR_SENSOR["sensor_height"],
                         metavar="M",
-                        help="the sensor's height above the road (default %(default)s, the "
-                             "simulator's; KITTI 1.73)")
+                        help="the sensor's height above the road, over the sensor file's")
     parser.add_argument("--azimuth-step", default=SIMULATOR_SENSOR["azimuth_step"],
                         metavar="DEG",
-                        help="the sensor's angle between returns along a ring (default "
-                             "%(default)s, the simulator's; KITTI 0.176)")
+                        help="the sensor's angle between returns along a ring, over the sensor "
+                             "file's")
     parser.add_argument("--prior-classes", default=SIMULATOR_SENSOR["prior_classes"],
                         metavar="LIST",
                         help="the size priors the geometric fit chooses among, comma-separated "
@@ -124,9 +127,16 @@ def add_sensor_options(parser):
                              "Car,Van,Truck)")
 
 
+def sensor_option(sensor, relative_to):
+    """The --sensor value: a name or auto as given, a file resolved against `relative_to`."""
+    if sensor and ("/" in sensor or sensor.endswith(".yaml")):
+        return resolve(sensor, relative_to)
+    return sensor or None
+
+
 def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
-    config_file(), sensor_height, azimuth_step, prior_classes and overwrite)."""
+    config_file(), sensor, sensor_height, azimuth_step, prior_classes and overwrite)."""
     command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
                "--boxes", boxes]
     for option, value in (("--method", method), ("--models", models),
@@ -134,6 +144,7 @@ def fit_command(run, frames, out, boxes, method=None, models=None, classifier=No
                           ("--config", run.config_file("cuboids.yaml")),
                           ("--ground-config", run.config_file("ground.yaml")),
                           ("--segmentation-config", run.config_file("segmentation.yaml")),
+                          ("--sensor", run.sensor),
                           ("--sensor-height", run.sensor_height),
                           ("--azimuth-step", run.azimuth_step),
                           ("--prior-classes", run.prior_classes)):

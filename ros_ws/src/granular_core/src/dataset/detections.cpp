@@ -129,6 +129,10 @@ std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
     if (node.contains("score")) {
       detection.score = reader.number(node, path, "score");
     }
+    if (node.contains("header") && node["header"].is_object() &&
+        node["header"].contains("frame_id") && node["header"]["frame_id"].is_string()) {
+      detection.frame_id = node["header"]["frame_id"].get<std::string>();
+    }
     result.push_back(std::move(detection));
   }
   return result;

@@ -52,6 +52,7 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   reportList(log, "cleared", cleared);
   reportList(log, "frames skipped", frames_skipped);
   reportList(log, "invalid detections skipped", invalid_detections);
+  reportList(log, "frames without ground", ground_not_found);
   char line[200];
   std::snprintf(line, sizeof(line),
                 "%s fitting of %s: %zu frames, %zu objects, %zu cuboids, %.2f s\n",
@@ -135,6 +136,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     }
     if (options.boxes == CuboidInputs::kSegments) {
       segmentation = segmenter.segment(cloud);
+      if (options.segmentation.method == SegmentationMethod::kObjects) {
+        if (const auto problem =
+                groundNotFound(cloud, segmentation.ground.inliers, options.ground.plane)) {
+          summary.ground_not_found.push_back(stamp + ": " + *problem);
+        }
+      }
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       if (options.classifier == nullptr && config.evidence.enabled &&
           options.segmentation.method == SegmentationMethod::kObjects) {
@@ -171,8 +178,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
       }
     } else {
+      std::size_t inliers = 0;
       const GroundPlane ground =
-          estimateGroundPlane(cloud, options.ground.plane);
+          estimateGroundPlane(cloud, options.ground.plane, nullptr, &inliers);
+      if (const auto problem = groundNotFound(cloud, inliers, options.ground.plane)) {
+        summary.ground_not_found.push_back(stamp + ": " + *problem);
+      }
       free_space.emplace(cloud, ground, config.free_space);
       const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
       for (std::size_t d = 0; d < detections.size(); ++d) {

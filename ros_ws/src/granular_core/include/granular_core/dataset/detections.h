@@ -22,6 +22,9 @@ struct Detection {
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   /// The detector's confidence; 1 when the file has none (ground truth).
   double score = 1.0;
+  /// The detection's own header.frame_id; empty when the file gives none (the array's, the
+  /// cloud's frame, applies).
+  std::string frame_id;
 };
 
 /// The header of a Detection3DArray: the frame's stamp and the sensor frame's id.
@@ -33,7 +36,7 @@ struct DetectionsHeader {
 
 /// Reads `detections[]` of a lgsvl_msgs/Detection3DArray written as JSON by the bag-to-files
 /// tool (id, label, bbox.position.position, bbox.position.orientation, bbox.size per detection;
-/// other keys are ignored; `score` is read when present). Throws std::runtime_error whose
+/// other keys are ignored; `score` and the detection's header.frame_id are read when present). Throws std::runtime_error whose
 /// message names the file and, for a missing key or a value of the wrong type, the key's path
 /// (e.g. `detections[2].bbox.size.x`). `header`, when given, receives the array's header
 /// (stamp and frame id, each left as it is where the file has none).

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <granular_core/dataset/atomic_file.h>
 #include <granular_core/runs/classify_supervised_run.h>
 
 #include "granular_ros/command_line.h"
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
     }
   };
   return tool.run(argc, argv, configure, [&] {
+    granular::checkCanWrite(options.out, "JSON");  // before the work, not after it
     const granular::SupervisedClassifier classifier =
         granular::SupervisedClassifier::load(options.model);
     if (expected) {

@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
       .number("--max-range", options.max_range);
   box_free.addTo(tool.options(), "--config");
   const auto configure = [&] {
+    box_free.frames = frames;  // whose clouds --sensor auto measures
     config = box_free.segmentation();
     ground = box_free.ground();
     if (method) {

@@ -148,14 +148,15 @@ int main(int argc, char** argv) {
   const auto configure = [&] {
     config = buildExtractionConfig(options);
     if (options.background) {
+      options.box_free.frames = options.in;  // whose clouds --sensor auto measures
       background = granular::BackgroundHarvest{
           options.box_free.ground(), options.box_free.segmentation(), options.segment_objects};
     } else if (options.segment_objects) {
       throw std::invalid_argument("--segment-objects goes with --background");
     } else if (options.box_free.given()) {
       throw std::invalid_argument(
-          "--ground-config, --segmentation-config, --sensor-height and --azimuth-step "
-          "go with --background");
+          "--ground-config, --segmentation-config, --sensor, --sensor-height and "
+          "--azimuth-step go with --background");
     }
   };
   return tool.run(argc, argv, configure, [&] {

@@ -134,6 +134,7 @@ int main(int argc, char** argv) {
                 granular_ros::splitList("--prior-classes", *options.prior_classes);
           }
         });
+    options.box_free.frames = options.frames;  // whose clouds --sensor auto measures
     run.ground = options.box_free.ground();
     run.segmentation = options.box_free.segmentation();
     if (options.boxes) {

@@ -273,20 +273,47 @@ class OnlineClassifier {
     return true;
   }
 
+  // The topics of `type` that the master knows now (the bag's, as it plays), as a clause for a
+  // warning about the silent `topic`.
+  static std::string publishedOfType(const std::string& type, const std::string& topic) {
+    ros::master::V_TopicInfo published;
+    if (!ros::master::getTopics(published)) {
+      return "the ROS master does not answer";
+    }
+    std::string others;
+    for (const ros::master::TopicInfo& info : published) {
+      if (info.datatype == type && info.name != topic) {
+        others += (others.empty() ? "" : ", ") + info.name;
+      }
+    }
+    return others.empty() ? "nothing publishes " + type + " now"
+                          : "the " + type + " topics published now: " + others;
+  }
+
   // Warns when a topic has been silent for ~topic_timeout seconds, and logs the latency every
   // ~report_interval seconds.
   void watch(const ros::SteadyTimerEvent&) {
     const auto now = Clock::now();
-    const std::pair<std::string, std::optional<Clock::time_point>> topics[] = {
-        {cloud_subscriber_.getTopic(), last_cloud_},
-        {detections_subscriber_.getTopic(), last_detections_}};
-    for (const auto& [topic, last] : topics) {
+    struct Watched {
+      std::string topic;
+      std::optional<Clock::time_point> last;
+      const char* type;      // what the topic must carry
+      const char* argument;  // online.launch's argument that names it
+    };
+    const Watched topics[] = {
+        {cloud_subscriber_.getTopic(), last_cloud_, "sensor_msgs/PointCloud2", "cloud_topic"},
+        {detections_subscriber_.getTopic(), last_detections_, "lgsvl_msgs/Detection3DArray",
+         "detections_topic"}};
+    for (const auto& [topic, last, type, argument] : topics) {
       const double silent = std::chrono::duration<double>(now - last.value_or(started_)).count();
       Clock::time_point& warned = last_warned_[topic];
       if (silent > topic_timeout_ &&
           std::chrono::duration<double>(now - warned).count() > topic_timeout_) {
         ROS_WARN_STREAM("online_classifier: nothing on " << topic << " for "
-                                                         << static_cast<int>(silent) << " s");
+                                                         << static_cast<int>(silent) << " s; "
+                                                         << publishedOfType(type, topic)
+                                                         << " (online.launch: " << argument
+                                                         << ":=)");
         warned = now;
       }
     }

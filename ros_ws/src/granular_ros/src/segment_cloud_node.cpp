@@ -71,6 +71,7 @@ class SegmentCloud {
     segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
     free_space_config_ = parameters.cuboids.free_space;
+    ground_plane_ = parameters.ground.plane;
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
@@ -100,6 +101,14 @@ class SegmentCloud {
     lgsvl_msgs::Detection3DArray output;
     output.header = message->header;
     const granular::ObjectSegmentation segmentation = segmenter_->segment(cloud);
+    if (config_.method == granular::SegmentationMethod::kObjects) {
+      if (const auto problem = granular::groundNotFound(cloud, segmentation.ground.inliers,
+                                                        ground_plane_)) {
+        ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: the cloud of "
+                                           << message->header.stamp << " in frame '"
+                                           << message->header.frame_id << "': " << *problem);
+      }
+    }
     const granular::SegmentViews views(cloud, segmentation, config_, free_space_config_);
     std::optional<granular::VehicleEvidence> evidence;
     if (evidence_config_.enabled && config_.method == granular::SegmentationMethod::kObjects) {
@@ -129,6 +138,7 @@ class SegmentCloud {
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
   std::unique_ptr<granular::CuboidFitter> fitter_;
   granular::FreeSpaceConfig free_space_config_;
+  granular::GroundPlaneConfig ground_plane_;
   granular::VehicleEvidenceConfig evidence_config_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;

@@ -46,6 +46,8 @@ const char* const kUsage =
     "                    in the same order\n"
     "  --method METHOD   knn, svm, svm_esf or svm_fitness\n"
     "  --out MODEL.yml   model file to write (replaced)\n"
+    "  --classes LIST    train on the objects of these classes only, comma-separated, e.g.\n"
+    "                    the classes that have models (default: every class)\n"
     "  --config FILE     YAML file with knn, svm, svm_fitness and histograms (the repository's\n"
     "                    config/supervised.yaml documents them)\n"
     "  --search-objects N\n"
@@ -66,6 +68,7 @@ struct Options {
   std::string method;
   std::string out;
   std::optional<std::string> config_file;
+  std::optional<std::string> classes;
   int threads = 0;
   std::optional<std::size_t> search_objects;
 };
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
   granular::SupervisedConfig config;
   granular::SupervisedMethod method{};
   std::vector<std::filesystem::path> registration;
+  std::vector<std::string> classes;
   granular_ros::Tool tool("train_classifier", [] { return std::string(kUsage); });
   tool.options()
       .value("--objects", options.objects)
@@ -84,6 +88,7 @@ int main(int argc, char** argv) {
       .required("--method", options.method)
       .required("--out", options.out)
       .value("--config", options.config_file)
+      .value("--classes", options.classes)
       .custom("--search-objects",
               [&options](granular_ros::OptionReader& reader) {
                 options.search_objects =
@@ -112,6 +117,9 @@ int main(int argc, char** argv) {
           granular_ros::splitList("--registration", options.registration);
       registration.assign(files.begin(), files.end());
     }
+    if (options.classes) {
+      classes = granular_ros::splitList("--classes", *options.classes);
+    }
     config = granular_ros::buildConfig<granular::SupervisedConfig>(options.config_file);
     if (options.search_objects) {
       config.svm.search_objects = *options.search_objects;
@@ -126,9 +134,9 @@ int main(int argc, char** argv) {
     const granular::TrainingRun run =
         options.registration.empty()
             ? granular::trainOnFolder(options.objects, method, config, options.threads,
-                                      tool.progress("features", "objects"))
+                                      tool.progress("features", "objects"), classes)
             : granular::trainOnRegistration(registration, config, options.objects,
-                                            options.threads);
+                                            options.threads, classes);
     run.classifier.save(options.out);
     run.report(std::cout);
     std::cout << "model: " << options.out << '\n';

@@ -140,7 +140,9 @@ def test_nan_and_infinite_boxes_are_skipped_counted_and_never_written_as_json(tm
                                                (DETECTIONS_TOPIC, broken)])
     result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
     assert result.status == 0, str(result)
-    assert "3 a box with NaN or infinite numbers" in result.output
+    assert "3 a box with NaN or infinite numbers (id 100 'Sedan' in frame " \
+           "1586102742.000000000, id 101 'SUV' in frame 1586102742.000000000, id 102 'Jeep'" \
+           in result.output, str(result)
     (path,) = (tmp_path / "frames" / "detections_3d").iterdir()
     text = path.read_text()
     assert "NaN" not in text and "Infinity" not in text
@@ -396,6 +398,22 @@ def sparse_objects_folder(folder):
     return folder
 
 
+def test_a_cloud_whose_every_point_is_nan_is_named_when_its_objects_are_extracted(tmp_path):
+    """It failed stages later, in build_models ("the filters left no points"), with no word
+    that the points were not finite."""
+    points = np.full((200, 3), np.nan)
+    points[:, 1:] = 0.0  # every x NaN
+    bag = bagmaker.write(tmp_path / "in.bag", [(CLOUD_TOPIC, bagmaker.cloud(0.0, points)),
+                                               (DETECTIONS_TOPIC, bagmaker.detections(0.0))])
+    frames = tmp_path / "frames"
+    assert run(BAG_TO_FILES + ["--bag", bag, "--out", frames, "--quiet"]).status == 0
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    (pcd,) = (frames / "pcd").iterdir()
+    assert result.status == 0, str(result)
+    hostile.assert_no_crash(result)
+    assert f"{pcd}: all 200 points are NaN or infinite" in result.output, str(result)
+
+
 def test_a_model_that_the_filters_empty_names_the_class_the_filter_and_what_to_change(
         tmp_path):
     objects = sparse_objects_folder(tmp_path / "objects")
@@ -448,3 +466,55 @@ def test_background_harvest_options_without_background_are_refused(drive, tmp_pa
                             "--segment-objects"])
     assert_fails_clearly(result, 2, "--segment-objects", "--background")
     assert not (tmp_path / "o").exists()
+
+
+def test_a_class_too_small_for_the_svm_is_named_with_its_objects_and_can_be_left_out(
+        drive, tmp_path):
+    """train_classifier said "nu infeasible for their classes" without naming the class."""
+    objects = hostile.copy_tree(drive / "objects", tmp_path / "objects")
+    donor = sorted(objects.glob("Sedan-*.pcd"))[0]
+    (objects / donor.name.replace("Sedan-", "Tram-")).write_bytes(donor.read_bytes())
+    config = tmp_path / "supervised.yaml"
+    config.write_text("svm: {nu: [0.5]}\n")  # infeasible for 1 object against a few
+    result = run(TRAIN + ["--objects", objects, "--method", "svm", "--out", tmp_path / "svm.yml",
+                          "--config", config])
+    assert_fails_clearly(result, 1, "class 'Tram' has 1 object(s)", "--classes")
+    assert not (tmp_path / "svm.yml").exists()
+    classes = sorted({path.name.split("-")[0] for path in objects.glob("*.pcd")} - {"Tram"})
+    result = run(TRAIN + ["--objects", objects, "--method", "knn", "--out", tmp_path / "k.yml",
+                          "--classes", ",".join(classes)])
+    assert result.status == 0, str(result)
+    assert f"of {len(classes)} classes" in result.output
+    result = run(TRAIN + ["--objects", objects, "--method", "knn", "--out", tmp_path / "k.yml",
+                          "--classes", "Sedan,Zeppelin"])
+    assert_fails_clearly(result, 1, "no objects of class 'Zeppelin'")
+
+
+def test_classify_supervised_into_a_path_under_a_regular_file_is_refused_before_the_work(
+        drive, tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    result = run(CLASSIFY_SUPERVISED + ["--model", drive / "knn.yml", "--objects",
+                                        drive / "objects", "--out",
+                                        tmp_path / "notes.txt" / "knn.json"])
+    assert_fails_clearly(result, 1, tmp_path / "notes.txt", "is not a folder")
+    assert "objects in" not in result.output  # refused before classifying
+    assert (tmp_path / "notes.txt").read_text() == "mine"
+
+
+def test_a_detection_in_another_frame_than_its_cloud_is_named_and_not_cropped(drive, tmp_path):
+    """Boxes in frame 'map' beside clouds in the sensor's frame were cropped as if they were in
+    the sensor's: objects of the wrong points, exit 0, no word."""
+    frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
+    path = sorted((frames / "detections_3d").glob("[!.]*.json"))[0]
+    document = json.loads(path.read_text())
+    moved = document["detections"][0]
+    moved["header"]["frame_id"] = "map"
+    path.write_text(json.dumps(document))
+    cloud_frame = document["header"]["frame_id"]
+    result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert result.status == 0, str(result)
+    assert f"detection id {moved['id']} '{moved['label']}' is in frame 'map', the cloud in " \
+           f"'{cloud_frame}'" in result.output, str(result)
+    index = (tmp_path / "objects" / "index.csv").read_text()
+    assert not [row for row in index.splitlines()[1:]
+                if path.stem in row and f",{moved['id']}," in row]

@@ -2,7 +2,9 @@
 failing stage's status, arguments are checked before the first stage, relative paths are taken
 from where the user stands, and the nodes stop at start-up with a message that says what was
 given, what was expected and the path."""
+import json
 import os
+import signal
 import socket
 import subprocess
 import time
@@ -107,6 +109,75 @@ def test_the_launch_entry_point_returns_the_failing_stages_status_and_marks_the_
                  env=own_master_environment())
     assert_fails_clearly(result, 2, frames, "even with overwrite:=true")
     assert (frames / "thesis.tex").read_text() == "mine"
+    # A real failure keeps roslaunch's banner, and ends with our line naming the status.
+    assert "REQUIRED process [pipeline-" in result.output, str(result)
+    assert "launch: required node pipeline failed with exit status 2" in result.output
+
+
+@pytest.mark.parametrize("options", [[], ["--screen", "-p", "11999"]], ids=["", "options"])
+def test_a_misspelt_launch_argument_is_refused_naming_the_closest_declared_one(tmp_path,
+                                                                            options):
+    """roslaunch ignores an argument its file does not declare: the run went on with the
+    default sensor height."""
+    result = run(LAUNCH + options + [REPO_ROOT / "launch" / "cuboids.launch", "bag:=test.bag",
+                           f"out:={tmp_path / 'c'}", "boxes:=segment", "sensor_hieght:=1.73"],
+                 cwd=tmp_path, env=own_master_environment())
+    assert_fails_clearly(result, 2, "cuboids.launch takes no argument 'sensor_hieght'",
+                         "did you mean sensor_height:=")
+    assert "roslaunch" not in result.output and list(tmp_path.iterdir()) == []
+
+
+def test_the_staging_an_interrupted_launch_removes_is_only_its_own_dead_runs(tmp_path):
+    """After a signal, scripts/launch removes the staging its stopped run left under the folders
+    its arguments name; never a live run's, an older one's, or a user's file."""
+    import sys
+    sys.path.insert(0, str(REPO_ROOT / "scripts" / "lib"))
+    import launch_status
+
+    out = tmp_path / "out"
+    dead = [tmp_path / ".out.partial-999999", out / "models" / ".pictures.partial-999998"]
+    kept = [tmp_path / f".out.partial-{os.getpid()}", out / "notes.partial-1.txt",
+            tmp_path / "elsewhere" / ".x.partial-999997"]
+    for path in dead + kept:
+        path.mkdir(parents=True)
+    older = out / ".frames.partial-999996"
+    older.mkdir()
+    os.utime(older, (time.time() - 3600, time.time() - 3600))
+    removed = launch_status.remove_staging(["x.launch", f"out:={out}"], time.time() - 60)
+    assert sorted(removed) == sorted(map(str, dead))
+    assert all(path.exists() for path in kept + [older])
+
+
+def processes_naming(text):
+    """The processes whose command line holds `text`."""
+    found = []
+    for entry in os.listdir("/proc"):
+        try:
+            with open(f"/proc/{entry}/cmdline", "rb") as stream:
+                command = stream.read().decode(errors="replace")
+        except (OSError, ValueError):
+            continue
+        if entry.isdigit() and text in command:
+            found.append(command.replace("\0", " "))
+    return found
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+def test_a_signal_to_the_launch_entry_point_stops_roslaunch_its_nodes_and_their_staging(
+        drive, tmp_path, signum):
+    """SIGTERM left roslaunch and its nodes running, a staging folder and exit by the signal;
+    SIGINT while a stage ran gave exit 0."""
+    out = tmp_path / "out"
+    process = hostile.start(LAUNCH + [REPO_ROOT / "launch" / "pipeline.launch",
+                                      f"bag:={drive / 'drive.bag'}", f"out:={out}",
+                                      "n_thresh:=10"], env=own_master_environment())
+    result = hostile.interrupt_when(process, lambda: hostile.leftovers(out), signum,
+                                    "a stage's staging folder", timeout=120)
+    assert result.status == 128 + signum, str(result)
+    hostile.assert_no_crash(result)
+    assert f"launch: interrupted by {signal.Signals(signum).name}" in result.output
+    assert hostile.leftovers(tmp_path) == [], str(result)
+    assert processes_naming(str(out)) == []
 
 
 def test_relative_paths_are_taken_from_where_the_user_stands_and_named_absolutely(tmp_path):
@@ -154,6 +225,87 @@ def test_a_successful_run_removes_an_earlier_failed_marker(drive, tmp_path):
     succeeded = run(command + ["--overwrite"])
     assert succeeded.status == 0, str(succeeded)
     assert not (out / "FAILED").exists()
+
+
+def many_class_bag(path, common, rare, frames=6):
+    """A bag of many classes as a real dataset has them: each `common` class has a box of 150
+    points in every frame; each `rare` class one box in one frame, with 15 points half a metre
+    apart along its length (a sparse semi-truck, a tram seen once), which the filters empty."""
+    import numpy as np
+    import bagmaker
+    from granular_tools.messages import LabelledBox, detections_message
+
+    rng = np.random.default_rng(7)
+    labels = list(common) + list(rare)
+    messages = []
+    for frame in range(frames):
+        detections, points = [], []
+        for index, label in enumerate(labels):
+            if label in rare and rare.index(label) != frame:
+                continue
+            centre = np.array([14.0, 6.0 * (index - len(labels) / 2.0), -0.8])
+            size = np.array([4.0, 1.8, 1.5]) if label in common else np.array([9.0, 2.5, 1.5])
+            detections.append(LabelledBox(300 + index, label, centre, (0.0, 0.0, 0.0, 1.0),
+                                          size))
+            if label in common:
+                points.append(centre + rng.uniform(-0.5, 0.5, size=(150, 3)) * size * 0.95)
+            else:
+                line = np.zeros((15, 3))
+                line[:, 0] = np.linspace(-3.5, 3.5, 15)
+                points.append(centre + line)
+        stamp = bagmaker.stamp(0.1 * frame)
+        messages.append((bagmaker.CLOUD_TOPIC, bagmaker.cloud(0.1 * frame, np.vstack(points),
+                                                              frame)))
+        messages.append((bagmaker.DETECTIONS_TOPIC,
+                         detections_message(detections, stamp, "velodyne", frame)))
+    return bagmaker.write(path, messages)
+
+
+def test_a_many_class_bag_builds_the_models_it_has_data_for_and_names_the_rest(tmp_path):
+    """A real dataset's rare classes (a semi-truck seen once, a tram seen once) no longer stop
+    the pipeline: the other classes get their models, the rare ones are named as left out."""
+    common = ["Car", "Pickup_Truck", "Medium-sized_Truck", "Bus"]
+    rare = ["Semi-truck", "Tram_/_Subway"]
+    bag = many_class_bag(tmp_path / "many.bag", common, rare)
+    out = tmp_path / "results"
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "pipeline.launch", f"bag:={bag}",
+                           f"out:={out}", "n_thresh:=10"], env=own_master_environment())
+    assert result.status == 0, str(result)
+    hostile.assert_no_crash(result)
+    # A finished run ends with our line, not roslaunch's red "REQUIRED process ... has died!"
+    assert "REQUIRED process" not in result.output, str(result)
+    assert "launch: done (pipeline finished with exit status 0)" in result.output
+    for label in rare:
+        assert f"class '{label}' left out" in result.output, str(result)
+    document = json.loads((out / "models" / "models.json").read_text(encoding="utf-8"))
+    assert sorted(document["left_out"]) == sorted(rare)
+    assert all("the filters left no points" in why for why in document["left_out"].values())
+    from granular_tools.labels import model_label
+    models = sorted(model_label(path) for path in (out / "models").glob("*.pcd"))
+    assert models == sorted(common)
+    assert len(list((out / "models" / "pictures").glob("*.png"))) == len(common) + 1
+    assert not (out / "FAILED").exists()
+
+
+def test_an_evaluation_of_a_many_class_drive_trains_the_classifiers_on_the_classes_with_models(
+        tmp_path):
+    """The classifiers learn the classes that got a model, so that every method answers among
+    the same classes; the rare ones are left out of both."""
+    common = ["Car", "Pickup_Truck", "Bus"]
+    rare = ["Semi-truck"]
+    bag = many_class_bag(tmp_path / "many.bag", common, rare)
+    out = tmp_path / "evaluation"
+    result = run(tool("granular_tools", "run_evaluation") + [
+        "--train-bag", bag, "--test-bag", bag, "--out", out, "--n-thresh", "10",
+        "--methods", "ndt", "--presets", "tuned", "--supervised", "knn"], timeout=600)
+    assert result.status == 0, str(result)
+    hostile.assert_no_crash(result)
+    assert "class 'Semi-truck' left out" in result.output
+    assert "knn: trained on 18 objects of 3 classes" in result.output, str(result)
+    answers = json.loads((out / "results" / "knn" / "N10.json").read_text())
+    assert {o["predictions"]["label"] for o in answers["objects"]} <= set(common)
+    assert "- Semi-truck: the filters left no points" in \
+        (out / "report" / "index.md").read_text(encoding="utf-8")
 
 
 # --- the nodes at start-up ------------------------------------------------------------------
@@ -255,3 +407,35 @@ def test_online_launch_with_exit_when_done_prints_the_latency_summary(drive, tmp
     assert "latency over the whole run" in result.output and "p95" in result.output, \
         str(result)
     assert time.monotonic() - started < 240
+
+
+def test_online_launch_with_a_models_folder_for_svm_ends_without_a_traceback(drive):
+    """The node's fatal message was clear, then roslaunch's shutdown made the bag player print
+    a KeyboardInterrupt traceback."""
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "online.launch", f"bag:={drive / 'drive.bag'}",
+                           f"models:={drive / 'models'}", "method:=svm", "rviz:=false",
+                           "exit_when_done:=true"],
+                 env=own_master_environment(), timeout=120)
+    assert_fails_clearly(result, 1, drive / "models", "svm")
+    assert "KeyboardInterrupt" not in result.output
+
+
+def test_online_launch_on_renamed_topics_names_the_bags_topics_and_the_arguments(drive):
+    """A bag whose topics are renamed: the warning said only "nothing on /simulator/lidar"."""
+    process = hostile.start(LAUNCH + [
+        REPO_ROOT / "launch" / "online.launch", f"bag:={drive / 'drive.bag'}",
+        f"models:={drive / 'knn.yml'}", "method:=knn", "rviz:=false", "loop:=true",
+        "cloud_topic:=/velodyne_points"], env=own_master_environment())
+
+    def warned():
+        # pread: the launch writes at the files' shared offset, which a seek would move.
+        output = b"".join(os.pread(stream.fileno(), os.fstat(stream.fileno()).st_size, 0)
+                          for stream in process.streams)
+        return b"nothing on /velodyne_points" in output
+
+    result = hostile.interrupt_when(process, warned, signal.SIGINT, "the silent topic's warning",
+                                    timeout=60)
+    assert "topics published now: /simulator/lidar" in result.output, str(result)
+    assert "cloud_topic:=" in result.output
+    assert result.status == 130, str(result)
+    hostile.assert_no_crash(result)

@@ -117,6 +117,33 @@ void writeThroughTemporary(const fs::path& file, const std::string& what,
   }
 }
 
+void checkCanWrite(const fs::path& file, const std::string& what) {
+  const auto refuse = [&](const std::string& reason) {
+    throw std::runtime_error(file.string() + ": cannot write " + what + ": " + reason);
+  };
+  std::error_code error;
+  if (fs::is_directory(file, error)) {
+    refuse("it is a folder");
+  }
+  // The nearest existing folder above it must be a folder all the way.
+  const fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  for (fs::path above = folder; !above.empty(); above = above.parent_path()) {
+    if (fs::exists(above, error)) {
+      if (!fs::is_directory(above, error)) {
+        refuse(above.string() + " is not a folder");
+      }
+      if (above != folder) {
+        refuse("its folder " + folder.string() + " does not exist");
+      }
+      return;
+    }
+    if (above == above.parent_path()) {
+      break;
+    }
+  }
+  refuse("its folder " + folder.string() + " does not exist");
+}
+
 void writeFileAtomically(const fs::path& file, const std::string& content,
                          const std::string& what) {
   int error = 0;

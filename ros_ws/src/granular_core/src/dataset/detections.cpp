@@ -133,6 +133,10 @@ std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
       const json& velocity = reader.child(node, path, "velocity");
       detection.velocity = reader.vector3(velocity, path + ".velocity", "linear");
     }
+    if (node.contains("header") && node["header"].is_object() &&
+        node["header"].contains("frame_id") && node["header"]["frame_id"].is_string()) {
+      detection.frame_id = node["header"]["frame_id"].get<std::string>();
+    }
     result.push_back(std::move(detection));
   }
   return result;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 namespace granular {
 
@@ -55,6 +57,35 @@ GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config) {
     estimate.ground[i] = estimate.heights[i] < config.ground_height;  // NaN: false
   }
   return estimate;
+}
+
+std::optional<std::string> groundNotFound(const Cloud& cloud, std::size_t inliers,
+                                          const GroundPlaneConfig& config) {
+  if (inliers > 0) {
+    return std::nullopt;
+  }
+  if (cloud.empty()) {
+    return std::string("no points, so no ground");
+  }
+  float lowest = std::numeric_limits<float>::infinity();
+  std::size_t finite = 0;
+  for (const PointXYZIT& point : cloud.points) {
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      ++finite;
+      lowest = std::min(lowest, point.z);
+    }
+  }
+  if (finite == 0) {
+    return "all " + std::to_string(cloud.size()) + " points are NaN or infinite, so no ground";
+  }
+  char text[400];
+  std::snprintf(text, sizeof(text),
+                "no ground plane found among %zu points (the lowest at z = %.2f m; road is "
+                "sought near z = -%.2f m, sensor_height); heights are taken above a flat plane "
+                "there: is the cloud in the sensor's frame, sensor_height right, the view not "
+                "filled by a wall?",
+                finite, lowest, config.sensor_height);
+  return std::string(text);
 }
 
 }  // namespace granular

@@ -62,6 +62,8 @@ FilterChainConfig ModelBuildConfig::filtersFor(const std::string& label) const {
 }
 
 void validate(const ModelBuildConfig& config) {
+  config::require(config.min_objects >= 1, "min_objects: must be at least 1 object");
+  config::require(config.min_points >= 1, "min_points: must be at least 1 point");
   validateChain(config.filters, "filters");
   for (const auto& [label, change] : config.class_filters.by_name) {
     config::require(!label.empty(), "class_filters: a class name is empty");

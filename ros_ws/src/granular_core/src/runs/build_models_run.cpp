@@ -35,6 +35,8 @@ fs::path absolutePath(const fs::path& path) {
 Json runJson(const fs::path& objects, const ModelBuildConfig& config, bool mesh) {
   Json run = {{"method", methodName(config.method)},
               {"objects_folder", objects.string()},
+              {"min_objects", config.min_objects},
+              {"min_points", config.min_points},
               {"point_type", "pcl::PointXYZ: x y z, float32, metres, object frame (origin at "
                              "the centre of the box's bottom face, x forward, y left, z up)"}};
   if (config.method == ConcatenationMethod::kIcp) {
@@ -48,8 +50,12 @@ Json runJson(const fs::path& objects, const ModelBuildConfig& config, bool mesh)
 }
 
 Json classJson(const ClassModelSummary& summary, const std::vector<fs::path>& files,
-               const ModelBuildConfig& config, bool written, bool mesh) {
+               const ModelBuildConfig& config, bool written, bool mesh,
+               const std::string& left_out) {
   Json entry = {{"objects", summary.objects}, {"kept", summary.kept}};
+  if (!left_out.empty()) {
+    entry["left_out"] = left_out;
+  }
   if (config.method == ConcatenationMethod::kIcp && summary.objects > 0) {
     Json seed_objects = Json::array();
     for (const std::size_t index : summary.seed_objects) {
@@ -101,10 +107,30 @@ std::string emptiedMessage(const ClassModelSummary& model) {
       advice = "check " + key + "voxel_grid";
       break;
   }
-  return "class '" + model.label + "' (" + std::to_string(model.raw_points) +
-         " points before filtering): the " + stageName(*model.emptied_by) +
+  return "the filters left no points (" + std::to_string(model.raw_points) +
+         " before filtering): the " + stageName(*model.emptied_by) +
          " stage removed them all; " + advice + ", leave the stage out of " + key +
-         "order, or leave the class out (--classes)";
+         "order";
+}
+
+// Why class `model` gets no model, or "" when it has enough data (ModelBuildConfig's
+// min_objects and min_points).
+std::string leftOutReason(const ClassModelSummary& model, const ModelBuildConfig& config) {
+  if (model.objects == 0) {
+    return "no objects";
+  }
+  if (model.objects < config.min_objects) {
+    return std::to_string(model.objects) + " object(s), fewer than min_objects " +
+           std::to_string(config.min_objects);
+  }
+  if (model.emptied_by) {
+    return emptiedMessage(model);
+  }
+  if (model.points < config.min_points) {
+    return "a model of " + std::to_string(model.points) + " points, fewer than min_points " +
+           std::to_string(config.min_points);
+  }
+  return "";
 }
 
 }  // namespace
@@ -153,8 +179,16 @@ void BuildModelsSummary::report(std::ostream& out, std::ostream& log) const {
     }
     out << ' ' << std::setw(8) << std::fixed << std::setprecision(2) << model.seconds << '\n';
   }
-  out << "total: " << classes.size() << " classes, " << std::fixed << std::setprecision(2)
-      << seconds << " s\n";
+  out << "total: " << classes.size() - left_out.size() << " class models";
+  if (!left_out.empty()) {
+    std::vector<std::string> names;
+    for (const auto& [label, reason] : left_out) {
+      names.push_back(label);
+    }
+    out << ", " << left_out.size() << " classes left out (" << joined(names)
+        << "; the warnings say why)";
+  }
+  out << ", " << std::fixed << std::setprecision(2) << seconds << " s\n";
 }
 
 BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
@@ -240,11 +274,25 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
   }
 
   Json classes = Json::object();
-  std::vector<std::string> emptied;
   for (const std::string& label : labels) {
     const auto found = files.find(label);
     const std::vector<fs::path> paths =
         found == files.end() ? std::vector<fs::path>() : found->second;
+    if (!paths.empty() && paths.size() < config.min_objects) {
+      // Too few objects to be worth reading.
+      ClassModelSummary result;
+      result.label = label;
+      result.objects = paths.size();
+      const std::string reason = leftOutReason(result, config);
+      result.warnings.push_back("left out: " + reason);
+      summary.left_out[label] = reason;
+      classes[label] = classJson(result, paths, config, false, options.mesh, reason);
+      if (options.class_done) {
+        options.class_done(result);
+      }
+      summary.classes.push_back(std::move(result));
+      continue;
+    }
     std::vector<ModelCloud> clouds;
     clouds.reserve(paths.size());
     std::size_t non_finite = 0;
@@ -270,17 +318,19 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
       throw std::runtime_error("class '" + label + "': " + error.what());
     }
     ClassModelSummary& result = model.summary;
-    if (result.emptied_by) {
-      emptied.push_back(emptiedMessage(result));
-    }
     if (non_finite > 0) {
       result.warnings.push_back(std::to_string(non_finite) + " non-finite points dropped");
+    }
+    const std::string reason = leftOutReason(result, config);
+    if (!reason.empty()) {
+      result.warnings.push_back("left out: " + reason);
+      summary.left_out[label] = reason;
     }
     if (config.method == ConcatenationMethod::kIcp && seed != seeds.end()) {
       result.seed_source = options.seeds.at(label).string();
     }
 
-    const bool written = !model.model.empty();
+    const bool written = reason.empty();
     if (written) {
       writeModelPcd(staging / modelFileName(label), model.model);
       writeModelPcd(staging / "raw" / modelFileName(label), model.raw);
@@ -290,18 +340,26 @@ BuildModelsSummary buildModels(const fs::path& objects, const fs::path& out,
         writeMeshPly(staging / "mesh" / (encodeLabel(label) + ".ply"), mesh);
       }
     }
-    classes[label] = classJson(result, paths, config, written, options.mesh);
+    classes[label] = classJson(result, paths, config, written, options.mesh, reason);
     if (options.class_done) {
       options.class_done(result);
     }
     summary.classes.push_back(std::move(result));
   }
 
-  if (!emptied.empty()) {
-    throw std::runtime_error("the filters left no points of " + joined(emptied, "; of "));
+  if (summary.left_out.size() == summary.classes.size()) {
+    std::vector<std::string> reasons;
+    for (const auto& [label, reason] : summary.left_out) {
+      reasons.push_back("class '" + label + "': " + reason);
+    }
+    throw std::runtime_error("no class has enough data for a model: " + joined(reasons, "; "));
+  }
+  for (const auto& [label, reason] : summary.left_out) {
+    summary.warnings.push_back("class '" + label + "' left out (no model): " + reason);
   }
   Json document = runJson(absolutePath(objects), config, options.mesh);
   document["classes"] = classes;
+  document["left_out"] = summary.left_out;
   document["warnings"] = summary.warnings;
   writeFile(staging / "models.json", document.dump(2) + "\n", "JSON");
   output.commit();

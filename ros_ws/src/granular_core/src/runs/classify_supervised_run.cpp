@@ -17,6 +17,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/dataset/object_names.h"
 #include "granular_core/parallel.h"
+#include "granular_core/text.h"
 
 namespace granular {
 namespace fs = std::filesystem;
@@ -311,11 +312,40 @@ void appendPointHistograms(FolderFeatures& folder, const fs::path& objects,
       });
 }
 
+// Keeps the objects of `classes` in `folder` (every object when `classes` is empty). Throws
+// std::runtime_error naming a class of `classes` without objects in `source`.
+void keepClasses(FolderFeatures& folder, const std::vector<std::string>& classes,
+                 const std::string& source) {
+  if (classes.empty()) {
+    return;
+  }
+  const std::set<std::string> present(folder.labels.begin(), folder.labels.end());
+  for (const std::string& label : classes) {
+    if (present.count(label) == 0) {
+      throw std::runtime_error(source + ": no objects of class '" + label + "' (classes: " +
+                               joined(std::vector<std::string>(present.begin(), present.end())) +
+                               ")");
+    }
+  }
+  const std::set<std::string> wanted(classes.begin(), classes.end());
+  FolderFeatures kept;
+  for (std::size_t i = 0; i < folder.files.size(); ++i) {
+    if (wanted.count(folder.labels[i]) != 0) {
+      kept.files.push_back(std::move(folder.files[i]));
+      kept.labels.push_back(std::move(folder.labels[i]));
+      kept.points.push_back(folder.points[i]);
+      kept.features.push_back(std::move(folder.features[i]));
+      kept.microseconds.push_back(folder.microseconds[i]);
+    }
+  }
+  folder = std::move(kept);
+}
+
 }  // namespace
 
 TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
                                 const SupervisedConfig& config, const fs::path& objects,
-                                int threads) {
+                                int threads, const std::vector<std::string>& classes) {
   validate(config);
   RegistrationFeatures features =
       readRegistrationFeatures(results, config.svm_fitness.inlier_shares);
@@ -324,6 +354,7 @@ TrainingRun trainOnRegistration(const std::vector<fs::path>& results,
     const std::vector<std::string> names = pointHistogramFeatureNames(config.histograms);
     features.origin.names.insert(features.origin.names.end(), names.begin(), names.end());
   }
+  keepClasses(features.folder, classes, results.front().string());
   TrainingSummary summary;
   SupervisedClassifier classifier =
       SupervisedClassifier::train(SupervisedMethod::kSvmFitness, config, features.folder.features,
@@ -386,9 +417,11 @@ void SupervisedRun::report(std::ostream& out) const {
 
 TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod method,
                           const SupervisedConfig& config, int threads,
-                          const std::function<void(std::size_t, std::size_t)>& progress) {
-  const FolderFeatures features =
+                          const std::function<void(std::size_t, std::size_t)>& progress,
+                          const std::vector<std::string>& classes) {
+  FolderFeatures features =
       computeFolderFeatures(folder, featureKindOf(method), config.histograms, threads, progress);
+  keepClasses(features, classes, folder.string());
   TrainingSummary summary;
   SupervisedClassifier classifier =
       SupervisedClassifier::train(method, config, features.features, features.labels, &summary);

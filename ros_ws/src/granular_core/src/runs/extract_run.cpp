@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iomanip>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -250,10 +251,36 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
     const fs::path json_file = json_folder / (stamp + ".json");
-    std::vector<Detection> detections = readDetectionsJson(json_file);
+    DetectionsHeader header;
+    std::vector<Detection> detections = readDetectionsJson(json_file, &header);
+    std::map<std::int64_t, std::size_t> boxes_of_id;
     for (const Detection& detection : detections) {
       seen_labels.insert(detection.label);
+      ++boxes_of_id[detection.id];
     }
+    for (const auto& [id, boxes] : boxes_of_id) {
+      if (boxes > 1) {  // a hand edit's copy: the objects keep it, the user must know
+        summary.warnings.push_back(json_file.string() + ": detection id " + std::to_string(id) +
+                                   " is given to " + std::to_string(boxes) +
+                                   " boxes; ids name tracks, which take them for one object");
+      }
+    }
+    // A box in another frame than the cloud's (the file's header) would be cropped as if it
+    // were in the cloud's: refused, both frames named.
+    const auto foreign = std::remove_if(detections.begin(), detections.end(), [&](const Detection&
+                                                                                    detection) {
+      if (detection.frame_id.empty() || header.frame_id.empty() ||
+          detection.frame_id == header.frame_id) {
+        return false;
+      }
+      summary.invalid_detections.push_back(
+          json_file.string() + ": detection id " + std::to_string(detection.id) + " '" +
+          detection.label + "' is in frame '" + detection.frame_id + "', the cloud in '" +
+          header.frame_id + "' (the file's header.frame_id); skipped: move it into the cloud's "
+          "frame first (bag_to_files does, with the bag's /tf)");
+      return true;
+    });
+    detections.erase(foreign, detections.end());
     const Cloud cloud = readPcd(pcd_folder / (stamp + ".pcd"));
     if (segmenter) {
       for (const std::string& problem :
@@ -266,6 +293,12 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
     }
     const FrameExtraction extraction = extractObjects(cloud, detections, frame_config);
     summary.non_finite_points += extraction.non_finite_points;
+    if (!cloud.empty() && extraction.non_finite_points == cloud.size()) {
+      // Else it surfaces stages later as "the filters left no points", with no word why.
+      summary.warnings.push_back((pcd_folder / (stamp + ".pcd")).string() + ": all " +
+                                 std::to_string(cloud.size()) +
+                                 " points are NaN or infinite; the frame gives no objects");
+    }
     for (const std::string& error : extraction.errors) {
       summary.invalid_detections.push_back(json_file.string() + ": " + error);
     }

@@ -13,6 +13,7 @@
 #include "granular_core/dataset/pcd_io.h"
 #include "granular_core/cuboids/segment_views.h"
 #include "granular_core/cuboids/vehicle_evidence.h"
+#include "granular_core/cuboids/vehicle_split.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/parallel.h"
 #include "granular_core/tracking/tracker.h"
@@ -108,6 +109,7 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   reportList(log, "cleared", cleared);
   reportList(log, "frames skipped", frames_skipped);
   reportList(log, "invalid detections skipped", invalid_detections);
+  reportList(log, "frames without ground", ground_not_found);
   char line[200];
   std::snprintf(line, sizeof(line),
                 "%s fitting of %s: %zu frames, %zu objects, %zu cuboids, %.2f s\n",
@@ -210,6 +212,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     std::optional<FreeSpace> free_space;
     // Segments without a classifier: the zero-shot vehicle decision on each fitted cuboid.
     std::optional<VehicleEvidence> evidence;
+    std::size_t split_ids = 0;
     // Given boxes, or the Background decision on segments, crop the frame box by box.
     std::optional<FrameCropper> cropper;
     if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr) {
@@ -217,6 +220,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     }
     if (options.boxes == CuboidInputs::kSegments) {
       segmentation = segmenter.segment(cloud);
+      if (options.segmentation.method == SegmentationMethod::kObjects) {
+        if (const auto problem =
+                groundNotFound(cloud, segmentation.ground.inliers, options.ground.plane)) {
+          summary.ground_not_found.push_back(stamp + ": " + *problem);
+        }
+      }
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       if (options.classifier == nullptr && config.evidence.enabled &&
           options.segmentation.method == SegmentationMethod::kObjects) {
@@ -236,11 +245,29 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
         input.id = static_cast<std::int64_t>(s);
         input.view = segment_views->view(s);
-        inputs.push_back(std::move(input));
+        if (!evidence) {
+          inputs.push_back(std::move(input));
+          continue;
+        }
+        // With the vehicle decision, touching cars are cut apart first; a piece after the
+        // first takes an id after the frame's segments.
+        std::vector<ObjectView> pieces = splitVehicles(input.view, config.split);
+        for (std::size_t p = 0; p < pieces.size(); ++p) {
+          Input piece;
+          piece.id = p == 0 ? input.id
+                            : static_cast<std::int64_t>(segmentation.segments.size() +
+                                                        split_ids++);
+          piece.view = std::move(pieces[p]);
+          inputs.push_back(std::move(piece));
+        }
       }
     } else {
+      std::size_t inliers = 0;
       const GroundPlane ground =
-          estimateGroundPlane(cloud, options.ground.plane);
+          estimateGroundPlane(cloud, options.ground.plane, nullptr, &inliers);
+      if (const auto problem = groundNotFound(cloud, inliers, options.ground.plane)) {
+        summary.ground_not_found.push_back(stamp + ": " + *problem);
+      }
       free_space.emplace(cloud, ground, config.free_space);
       const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
       for (std::size_t d = 0; d < detections.size(); ++d) {

@@ -144,6 +144,11 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
         has_truth ? readDetectionsJson(json, &header) : std::vector<Detection>();
     const auto start = std::chrono::steady_clock::now();
     const ObjectSegmentation result = segmenter.segment(cloud);
+    if (config.method == SegmentationMethod::kObjects) {
+      if (const auto problem = groundNotFound(cloud, result.ground.inliers, ground.plane)) {
+        evaluation.ground_not_found.push_back(stem + ": " + *problem);
+      }
+    }
     const std::vector<Segment>& segments = result.segments;
     // The boxes scored and saved: the segments' own, or the cuboids fitted to them.
     std::vector<OrientedBox> frame_boxes;
@@ -256,6 +261,12 @@ void SegmentationEvaluation::report(std::ostream& out) const {
   }
   if (invalid_truth.size() > 10) {
     out << "warning: " << invalid_truth.size() - 10 << " more true boxes skipped\n";
+  }
+  for (std::size_t i = 0; i < ground_not_found.size() && i < 10; ++i) {
+    out << "warning: frame without ground: " << ground_not_found[i] << '\n';
+  }
+  if (ground_not_found.size() > 10) {
+    out << "warning: " << ground_not_found.size() - 10 << " more frames without ground\n";
   }
   if (frames_without_truth > 0) {
     std::snprintf(line, sizeof(line),

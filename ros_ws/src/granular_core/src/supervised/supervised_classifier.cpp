@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -107,6 +108,32 @@ double crossValidate(const cv::Mat& samples, const cv::Mat& responses,
     }
   }
   return static_cast<double>(correct) / samples.rows;
+}
+
+// Why no nu of the grid trains: the smallest class against the largest. A nu-SVM of two
+// classes of n1 and n2 objects needs nu <= 2 min(n1, n2) / (n1 + n2) (Chang and Lin 2001), and
+// the cross-validation folds see fewer still.
+std::string infeasibleNuMessage(const std::vector<std::string>& labels, const cv::Mat& responses,
+                                const std::vector<double>& nus) {
+  std::vector<std::size_t> counts(labels.size(), 0);
+  for (int r = 0; r < responses.rows; ++r) {
+    ++counts[static_cast<std::size_t>(responses.at<int>(r))];
+  }
+  const auto smallest = std::min_element(counts.begin(), counts.end()) - counts.begin();
+  const auto largest = std::max_element(counts.begin(), counts.end()) - counts.begin();
+  const std::size_t few = counts[static_cast<std::size_t>(smallest)];
+  const std::size_t many = counts[static_cast<std::size_t>(largest)];
+  char bound[64];
+  std::snprintf(bound, sizeof(bound), "%.3g", 2.0 * few / static_cast<double>(few + many));
+  char lowest[64];
+  std::snprintf(lowest, sizeof(lowest), "%.3g", *std::min_element(nus.begin(), nus.end()));
+  return "no (nu, gamma) of the grid trains a nu-SVM on these objects: class '" +
+         labels[static_cast<std::size_t>(smallest)] + "' has " + std::to_string(few) +
+         " object(s) against " + std::to_string(many) + " of '" +
+         labels[static_cast<std::size_t>(largest)] + "', which needs nu below " + bound +
+         " (svm.nu's smallest is " + lowest +
+         ") and more objects than the cross-validation folds; give the class more objects, "
+         "lower svm.nu, or leave the class out (--classes)";
 }
 
 // The rows of each label (0, 1, ...), each list shuffled by one generator seeded `seed`.
@@ -485,8 +512,7 @@ SupervisedClassifier SupervisedClassifier::train(SupervisedMethod method,
     cv::Ptr<cv::ml::SVM> model = makeSvm(best_nu, std::exp2(best_log2_gamma));
     if (best <= 0.0 || !model->train(samples, cv::ml::ROW_SAMPLE, responses) ||
         !model->isTrained()) {
-      throw std::invalid_argument("no (nu, gamma) of the grid trains a nu-SVM on these objects "
-                                  "(nu infeasible for their classes' sizes); lower svm.nu");
+      throw std::invalid_argument(infeasibleNuMessage(impl.labels, responses, svm.nu));
     }
     if (!impl.setSvm(model)) {
       throw std::logic_error("a trained nu-SVM that RbfSvmPredictor does not take");

@@ -1,8 +1,10 @@
 // The ground stage on synthetic scenes with exact answers: a tilted plane with obstacles on it.
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -141,6 +143,26 @@ TEST(GroundTest, ANonFinitePointHasNoHeightAndIsNotGround) {
   EXPECT_TRUE(std::isnan(estimate.heights[0]));
   EXPECT_FALSE(estimate.ground[0]);
   EXPECT_TRUE(estimate.ground[1]);
+}
+
+// The warning a run gives a frame without ground names why: no points, none finite, or no
+// plane among them (with the lowest point, for a cloud in another frame); a found plane none.
+TEST(GroundTest, AFrameWithoutGroundIsToldWhy) {
+  GroundPlaneConfig config;
+  config.sensor_height = 2.3;
+  Cloud cloud;
+  EXPECT_EQ(groundNotFound(cloud, 0, config), "no points, so no ground");
+  cloud.push_back(PointXYZIT(NAN, 1.0f, -2.3f, 0, 0.0));
+  cloud.push_back(PointXYZIT(1.0f, INFINITY, -2.3f, 0, 0.0));
+  EXPECT_EQ(groundNotFound(cloud, 0, config), "all 2 points are NaN or infinite, so no ground");
+  cloud.push_back(PointXYZIT(3.0f, 0.0f, -52.25f, 0, 0.0));
+  const std::optional<std::string> why = groundNotFound(cloud, 0, config);
+  ASSERT_TRUE(why);
+  EXPECT_NE(why->find("no ground plane found among 1 points (the lowest at z = -52.25 m; road "
+                      "is sought near z = -2.30 m"),
+            std::string::npos)
+      << *why;
+  EXPECT_FALSE(groundNotFound(cloud, 40, config));
 }
 
 TEST(GroundTest, ValidateNamesTheField) {

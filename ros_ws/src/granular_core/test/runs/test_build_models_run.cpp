@@ -1,6 +1,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -139,6 +140,58 @@ TEST_F(ModelsFolderTest, AClassWithoutObjectsIsReportedNotBuilt) {
   options.classes = {"Truck"};
   EXPECT_THROW(buildModels(objects_, root_ / "other", ModelBuildConfig(), options),
                std::runtime_error);
+}
+
+// A real dataset's rare classes (one tram, pylons the filters empty) are left out and named;
+// the classes with data get their models.
+TEST_F(ModelsFolderTest, ClassesWithTooLittleDataAreLeftOutAndNamed) {
+  ModelBuildConfig config;
+  config.min_objects = 2;  // the SUV has one object
+  // A band above the Sedans' roofs (1.5 m) empties their model.
+  config.class_filters["Sedan"]["pass_through"] = {{"min_z", 5.0}, {"max_z", 6.0}};
+  std::mt19937 random(3);
+  for (const char* name : {"Bus-100-3.pcd", "Bus-200-3.pcd"}) {
+    writePcdBinary(objects_ / name, toCloud(testing_clouds::boxSurface({11, 2.5, 3}, 2000,
+                                                                       random)));
+  }
+  const BuildModelsSummary summary = buildModels(objects_, out_, config);
+
+  ASSERT_EQ(summary.left_out.size(), 2u);
+  EXPECT_NE(summary.left_out.at("SUV").find("1 object(s), fewer than min_objects 2"),
+            std::string::npos);
+  EXPECT_NE(summary.left_out.at("Sedan").find("pass_through"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out_ / "Bus.pcd"));
+  EXPECT_FALSE(fs::exists(out_ / "SUV.pcd"));
+  EXPECT_FALSE(fs::exists(out_ / "Sedan.pcd"));
+  EXPECT_FALSE(fs::exists(out_ / "raw" / "Sedan.pcd"));
+  const nlohmann::json report = modelsJson();
+  EXPECT_EQ(report["left_out"].size(), 2u);
+  EXPECT_EQ(report["classes"]["SUV"]["left_out"], summary.left_out.at("SUV"));
+  EXPECT_FALSE(report["classes"]["Sedan"].contains("files"));
+  EXPECT_EQ(report["min_objects"], 2);
+  const std::string warnings = report["warnings"].dump();
+  EXPECT_NE(warnings.find("class 'SUV' left out"), std::string::npos) << warnings;
+  std::ostringstream table, log;
+  summary.report(table, log);
+  EXPECT_NE(table.str().find("2 classes left out (SUV, Sedan"), std::string::npos)
+      << table.str();
+  EXPECT_NE(log.str().find("class 'Sedan' left out"), std::string::npos) << log.str();
+}
+
+TEST_F(ModelsFolderTest, NoClassLeftIsAnErrorNamingEachClassAndWhy) {
+  ModelBuildConfig config;
+  config.min_points = 1000000;
+  try {
+    buildModels(objects_, out_, config);
+    FAIL() << "built models with no class left";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("no class has enough data"), std::string::npos) << message;
+    EXPECT_NE(message.find("class 'SUV': a model of "), std::string::npos) << message;
+    EXPECT_NE(message.find("fewer than min_points 1000000"), std::string::npos) << message;
+    EXPECT_NE(message.find("class 'Sedan'"), std::string::npos) << message;
+  }
+  expectNoOutput();
 }
 
 TEST_F(ModelsFolderTest, ReplacesOnlyItsOwnResultsAndOnlyWithOverwrite) {

@@ -429,17 +429,22 @@ def load_frames(folder, wanted=None, boxes=True):
 
 def write_bag(folder, frames, path, start_time, frame_id, boxes=True, progress=None):
     """Each frame's cloud (and with `boxes` its detections) at start_time + k / 10 s; the bag
-    appears under `path` only when complete. Returns {label: boxes written}."""
+    appears under `path` only when complete. Returns ({label: boxes written}, [a line for each
+    velodyne file without a finite point, which the box-free tools find no ground in])."""
     import rosbag  # ROS imports only once the input is known good.
     from .messages import LabelledBox, cloud_message, detections_message, ros_time
 
-    counts = {}
+    counts, pointless = {}, []
     with written_atomically(path, "bag") as partial:
         try:
             with rosbag.Bag(partial, "w") as bag:
                 for k, frame in enumerate(frames):
                     stamp = ros_time(start_time, k * FRAME_PERIOD)
-                    points = read_velodyne(os.path.join(folder, VELODYNE, frame.stem + ".bin"))
+                    cloud = os.path.join(folder, VELODYNE, frame.stem + ".bin")
+                    points = read_velodyne(cloud)
+                    if not np.isfinite(points[:, :3]).all(axis=1).any():
+                        pointless.append(f"{cloud}: no points" if len(points) == 0 else
+                                         f"{cloud}: all {len(points)} points are NaN or infinite")
                     bag.write(CLOUD_TOPIC, cloud_message(points[:, :3], intensity_of(points[:, 3]),
                                                          stamp, frame_id, k), stamp)
                     if boxes:
@@ -453,7 +458,7 @@ def write_bag(folder, frames, path, start_time, frame_id, boxes=True, progress=N
                         progress(k + 1, len(frames))
         except rosbag.ROSBagException as error:
             raise OSError(f"{path}: cannot write bag: {error}") from error
-    return counts
+    return counts, pointless
 
 
 def parse_args(argv):
@@ -514,10 +519,13 @@ def convert(args):
                  for sub in (CALIB, LABELS)]
     check_output_apart(args.out, read, KittiError)
     reporter = None if args.quiet else progress.Reporter("kitti to bag", unit="frames")
-    counts = write_bag(args.folder, frames, args.out, args.start_time, args.frame_id,
-                       boxes=not args.no_boxes, progress=reporter)
-    if not args.quiet:
+    counts, pointless = write_bag(args.folder, frames, args.out, args.start_time, args.frame_id,
+                                  boxes=not args.no_boxes, progress=reporter)
+    if reporter:
         reporter.finish()
+    for line in pointless:  # written as they are, but the user must know
+        print(f"kitti_to_bag: warning: {line}", file=sys.stderr)
+    if not args.quiet:
         boxes = "no boxes" if args.no_boxes else \
             f"{sum(counts.values())} boxes (" + \
             (", ".join(f"{k} {v}" for k, v in sorted(counts.items())) or "none") + ")"

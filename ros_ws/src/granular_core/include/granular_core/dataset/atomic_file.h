@@ -25,6 +25,11 @@ void writeThroughTemporary(const std::filesystem::path& file, const std::string&
 void writeFileAtomically(const std::filesystem::path& file, const std::string& content,
                          const std::string& what);
 
+/// Throws std::runtime_error naming `file` and `what` unless `file` could be written: its
+/// folder exists and is a folder, and `file` is not a folder. For tools that write one file at
+/// the end of long work, to refuse a wrong --out before the work.
+void checkCanWrite(const std::filesystem::path& file, const std::string& what);
+
 /// The name a temporary sibling of `path` gets in this process: ".<name>.<kind>-<pid>", so that a
 /// later run can tell a dead process's leftovers by their pid.
 std::filesystem::path temporarySibling(const std::filesystem::path& path, const std::string& kind);

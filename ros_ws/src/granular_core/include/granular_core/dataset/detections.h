@@ -24,6 +24,9 @@ struct Detection {
   double score = 1.0;
   /// Linear velocity in the LiDAR frame, m/s (a tracker's estimate; 0 when not known).
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  /// The detection's own header.frame_id; empty when the file gives none (the array's, the
+  /// cloud's frame, applies).
+  std::string frame_id;
 };
 
 /// The header of a Detection3DArray: the frame's stamp and the sensor frame's id.
@@ -35,10 +38,11 @@ struct DetectionsHeader {
 
 /// Reads `detections[]` of a lgsvl_msgs/Detection3DArray written as JSON by the bag-to-files
 /// tool (id, label, bbox.position.position, bbox.position.orientation, bbox.size per detection;
-/// `score` and `velocity.linear` when present; other keys are ignored). Throws
-/// std::runtime_error whose message names the file and, for a missing key or a value of the
-/// wrong type, the key's path (e.g. `detections[2].bbox.size.x`). `header`, when given, receives the array's header
-/// (stamp and frame id, each left as it is where the file has none).
+/// `score`, `velocity.linear` and the detection's header.frame_id when present; other keys
+/// are ignored). Throws std::runtime_error whose message names the file and, for a missing key
+/// or a value of the wrong type, the key's path (e.g. `detections[2].bbox.size.x`). `header`,
+/// when given, receives the array's header (stamp and frame id, each left as it is where the
+/// file has none).
 std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
                                           DetectionsHeader* header = nullptr);
 

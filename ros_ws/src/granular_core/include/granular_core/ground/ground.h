@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -163,5 +165,13 @@ std::vector<float> groundLineHeights(const Cloud& cloud, const GroundPlane& plan
 
 /// The whole ground stage on one cloud. Validates `config` first.
 GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config = {});
+
+/// Why the ground stage found no road in `cloud`, for a warning that names the frame; nullopt
+/// when it found a plane (`inliers`, GroundEstimate's, above 0). Without one, heights are taken
+/// above a flat plane sensor_height below the sensor, and the frame's segments and cuboids may
+/// be nonsense: an empty cloud, a wall filling the view, a cloud not in the sensor's frame (a
+/// world frame) or a wrong sensor_height.
+std::optional<std::string> groundNotFound(const Cloud& cloud, std::size_t inliers,
+                                          const GroundPlaneConfig& config);
 
 }  // namespace granular

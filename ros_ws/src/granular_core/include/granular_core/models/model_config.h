@@ -235,9 +235,17 @@ struct ModelBuildConfig {
   /// shared leaf.
   FilterChainOverrides class_filters = defaultClassFilters();
   MeshConfig mesh;
+  /// A class gets a model only when it has at least min_objects objects and its filtered
+  /// model at least min_points points; the others are left out with a warning (a real
+  /// dataset's rare classes: a single tram, a few pylons the filters empty), and the run fails
+  /// only when no class is left.
+  std::size_t min_objects = 1;  ///< objects
+  std::size_t min_points = 10;  ///< points of the filtered model
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
+    visit("min_objects", self.min_objects, config::atLeast(1, "objects"));
+    visit("min_points", self.min_points, config::atLeast(1, "points"));
     visit("method", self.method);
     visit("seed", self.seed);
     visit("icp", self.icp);

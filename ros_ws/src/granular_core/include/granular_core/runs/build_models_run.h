@@ -32,7 +32,10 @@ struct BuildModelsOptions {
 
 /// What buildModels did.
 struct BuildModelsSummary {
-  std::vector<ClassModelSummary> classes;  ///< in class name order
+  std::vector<ClassModelSummary> classes;  ///< in class name order, left-out ones included
+  /// The classes that got no model (too few objects or points, see ModelBuildConfig's
+  /// min_objects and min_points) and why, by class.
+  std::map<std::string, std::string> left_out;
   std::vector<std::string> warnings;       ///< about the run as a whole
   std::vector<std::string> cleared;  ///< what dead runs had left and was cleared
   ConcatenationMethod method = ConcatenationMethod::kPlain;
@@ -53,14 +56,17 @@ struct BuildModelsSummary {
 ///   - `out/models.json`: per class the objects used and kept, the ICP seed and verdicts, the
 ///     points after each stage, the filter parameters used and the seconds taken, plus the
 ///     method and ICP parameters of the run.
-/// A requested class without objects, or whose filtered model is empty, is reported in the
-/// summary and models.json and gets no files.
+/// A class with fewer than config.min_objects objects (none, for a requested class that is not
+/// there) or whose filtered model has fewer than config.min_points points is left out: named
+/// with the reason in the summary's left_out and warnings and in models.json ("left_out"), and
+/// it gets no files.
 ///
 /// `out` is an OutputFolder: locked, built in a hidden sibling and renamed into place at the
 /// end, so a failure or a signal leaves `out` as it was. Throws std::invalid_argument for a bad config, and
 /// std::runtime_error (naming the file or folder) for a missing objects folder, a folder
 /// without object PCDs, an unreadable object or seed PCD, a seed for a class not built, no
-/// class with objects among those requested, an `out` that may not be replaced (see
+/// class with objects among those requested, no class left with a model (the reasons named),
+/// an `out` that may not be replaced (see
 /// checkOutputFolder), and write failures.
 BuildModelsSummary buildModels(const std::filesystem::path& objects,
                                const std::filesystem::path& out, const ModelBuildConfig& config,

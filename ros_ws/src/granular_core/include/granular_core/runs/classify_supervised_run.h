@@ -64,10 +64,12 @@ struct TrainingRun {
 };
 
 /// Computes the features of every object of `folder` (computeFolderFeatures) and trains a
-/// classifier of `method` on them (SupervisedClassifier::train).
+/// classifier of `method` on them (SupervisedClassifier::train); on the objects of `classes`
+/// only when it is not empty (throws std::runtime_error naming a class without objects).
 TrainingRun trainOnFolder(const std::filesystem::path& folder, SupervisedMethod method,
                           const SupervisedConfig& config, int threads = 0,
-                          const std::function<void(std::size_t, std::size_t)>& progress = {});
+                          const std::function<void(std::size_t, std::size_t)>& progress = {},
+                          const std::vector<std::string>& classes = {});
 
 /// svm_fitness's features of an objects folder, read from classify_registration's results
 /// files of it (one per registration method, each listing every object's fitness against
@@ -91,11 +93,13 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<std::filesystem:
 
 /// Trains svm_fitness on the registration results of a training objects folder; with
 /// config.svm_fitness.histogram_weight above 0 also on the point histograms of its objects,
-/// read from `objects` (that folder) over `threads` (0: every core). Throws
-/// std::invalid_argument when the histograms are asked for and `objects` is empty.
+/// read from `objects` (that folder) over `threads` (0: every core); on the objects of
+/// `classes` only when it is not empty. Throws std::invalid_argument when the histograms are
+/// asked for and `objects` is empty, std::runtime_error naming a class without objects.
 TrainingRun trainOnRegistration(const std::vector<std::filesystem::path>& results,
                                 const SupervisedConfig& config,
-                                const std::filesystem::path& objects = {}, int threads = 0);
+                                const std::filesystem::path& objects = {}, int threads = 0,
+                                const std::vector<std::string>& classes = {});
 
 /// Classifies the objects of registration results files with an svm_fitness `classifier`
 /// (and, when it takes point histograms, their PCDs in `objects`). Throws std::runtime_error

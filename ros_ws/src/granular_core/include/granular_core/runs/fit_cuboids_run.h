@@ -81,13 +81,17 @@ struct FitCuboidsSummary {
   /// One line per frame left out ("<stamp>: <why>") and per detection skipped (naming its file).
   std::vector<std::string> frames_skipped;
   std::vector<std::string> invalid_detections;
+  /// One line per frame whose ground was not found ("<stamp>: <why>"): fitted all the same
+  /// above a flat plane, which a user must know of (groundNotFound).
+  std::vector<std::string> ground_not_found;
   std::vector<std::string> cleared;  ///< what dead runs had left beside the output
   /// Per object: milliseconds in CuboidFitter::fit (segmentation, ground and the cropping of
   /// detections not included).
   std::vector<double> milliseconds;
   double seconds = 0.0;  ///< wall time of the whole run
 
-  /// Cleared, skipped frames and detections (at most 10 lines each) on `log`; counts, labels
+  /// Cleared, skipped frames and detections, frames without ground (at most 10 lines each) on
+  /// `log`; counts, labels
   /// and the time per object (median, p95, max) on `out`.
   void report(std::ostream& out, std::ostream& log) const;
 };

@@ -49,6 +49,9 @@ struct SegmentationEvaluation {
   std::size_t frames_without_truth = 0;  ///< clouds with no detections_3d/<stamp>.json
   /// True boxes that are no box (negative size, zero quaternion...), skipped: file and why.
   std::vector<std::string> invalid_truth;
+  /// Frames whose ground was not found ("<stamp>: <why>", groundNotFound): segmented
+  /// above a flat plane all the same.
+  std::vector<std::string> ground_not_found;
   std::size_t points = 0;          ///< over all clouds
   std::size_t visible = 0;         ///< true objects counted (min_points, view, range)
   std::size_t found = 0;           ///< of those, with a segment centre within max_distance

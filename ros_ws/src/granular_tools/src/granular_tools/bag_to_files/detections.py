@@ -33,6 +33,10 @@ def transform_pose(transform, pose):
     return Pose(Point(*moved), Quaternion(x, y, z, w))
 
 
+NON_FINITE = "a box with NaN or infinite numbers"
+NON_FINITE_NAMED = 5  # boxes named in the summary; the count covers them all
+
+
 class DetectionCleaner:
     """Cleans each pair's detections; `lookup(target, source, stamp)` gives the
     geometry_msgs/Transform from `source` into `target`, or None when there is none."""
@@ -40,6 +44,7 @@ class DetectionCleaner:
     def __init__(self, lookup=None):
         self.lookup = lookup or (lambda target, source, stamp: None)
         self.skipped = collections.Counter()  # reason -> detections
+        self.non_finite = []  # the first NON_FINITE_NAMED boxes with NaN or infinite numbers
         self.transformed = 0
 
     def clean(self, cloud_frame, message):
@@ -47,7 +52,11 @@ class DetectionCleaner:
         kept.header.frame_id = cloud_frame
         for detection in message.detections:
             if not _finite(detection):
-                self.skipped["a box with NaN or infinite numbers"] += 1
+                self.skipped[NON_FINITE] += 1
+                if len(self.non_finite) < NON_FINITE_NAMED:
+                    stamp = message.header.stamp
+                    self.non_finite.append(f"id {detection.id} '{detection.label}' in frame "
+                                           f"{stamp.secs}.{stamp.nsecs:09d}")
                 continue
             frame = detection.header.frame_id or message.header.frame_id or cloud_frame
             if frame != cloud_frame:
@@ -65,7 +74,10 @@ class DetectionCleaner:
         return kept
 
     def summary(self):
-        parts = [f"{count} {reason}" for reason, count in sorted(self.skipped.items())]
+        parts = [f"{count} {reason}" + (f" ({', '.join(self.non_finite)}"
+                                        f"{', ...' if count > len(self.non_finite) else ''})"
+                                        if reason == NON_FINITE else "")
+                 for reason, count in sorted(self.skipped.items())]
         text = f"detections skipped: {', '.join(parts)}" if parts else ""
         if self.transformed:
             text += ("; " if text else "") + \

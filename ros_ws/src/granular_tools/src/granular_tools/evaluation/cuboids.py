@@ -327,10 +327,14 @@ def main(argv=None):
             write_report(folder.staging, summary, errors)
             folder.commit()
         if not args.quiet:
-            skipped = {side: sum(c.values()) for side, c in summary["skipped_boxes"].items()}
-            if any(skipped.values()):
-                print(f"{TOOL}: boxes skipped as invalid: {skipped['truth']} true, "
-                      f"{skipped['predicted']} predicted (reasons in summary.json)")
+            skipped = summary["skipped_boxes"]
+            if any(sum(reasons.values()) for reasons in skipped.values()):
+                sides = [f"{sum(skipped[side].values())} {name}" + (
+                    " (" + ", ".join(f"{count} {why}" for why, count in
+                                     sorted(skipped[side].items())) + ")"
+                    if skipped[side] else "") for side, name in (("truth", "true"),
+                                                                 ("predicted", "predicted"))]
+                print(f"{TOOL}: boxes skipped as invalid: {', '.join(sides)}")
             print(table)
             print(f"{TOOL}: {os.path.join(args.out, 'index.md')}")
         return 0

@@ -188,6 +188,21 @@ def _instances_table(summary):
             "|---|---|---|---|---|---|---|---|"] + rows
 
 
+def _left_out_lines(models_json):
+    """index.md's list of the classes build_models left out (too little data), from the models
+    folder's models.json; none when it left none out or is not there."""
+    try:
+        with open(models_json, encoding="utf-8") as stream:
+            left_out = json.load(stream).get("left_out") or {}
+    except (OSError, ValueError):
+        return []
+    if not left_out:
+        return []
+    return ["", "Left out, with too little data for a model (no method was trained on or "
+                "answers them):", ""] + [f"- {label}: {why}"
+                                         for label, why in sorted(left_out.items())]
+
+
 def write_index(out, summary, classes, model_pictures):
     lines = ["# Classification report", "",
              "Accuracy counts a missing prediction as wrong; coverage is the share of objects "
@@ -227,6 +242,7 @@ def write_index(out, summary, classes, model_pictures):
         if overview.exists():
             relative = os.path.relpath(overview, out)
             lines += ["", "## Class models", "", f"![class models]({relative})"]
+        lines += _left_out_lines(pathlib.Path(model_pictures).parent / "models.json")
     write_file(os.path.join(out, "index.md"), ("\n".join(lines) + "\n").encode(), "index")
 
 

@@ -140,7 +140,8 @@ def export_labels(args):
                 continue
             lines.append(label_line(entry, frame_map.calibration(name), frame_map.calib is None,
                                     args.decimals))
-            counts[entry.detection.get("label", "")] += 1
+            # As the files hold it: a label's newline would break the one-line summary.
+            counts[encode_label(entry.detection.get("label", ""))] += 1
         files[stem + LABEL_SUFFIX] = "".join(line + "\n" for line in lines)
     with OutputFolder(args.out, TOOL, args.overwrite,
                       inputs=(args.folder, args.calib)) as folder:

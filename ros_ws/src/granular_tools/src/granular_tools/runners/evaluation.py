@@ -12,6 +12,7 @@ OUT/report   make_report: summary.json, confusion matrices, plots, index.md; int
              per-track accuracy over the test drive's vehicles
 """
 import argparse
+import json
 import os
 import shutil
 import time
@@ -42,11 +43,24 @@ def classify(method, models, objects, results_file, preset, config_file):
     run_tool(command, f"classify_registration --method {method}")
 
 
-def train_and_classify(method, train_objects, test_run, classifiers, results, config_file):
-    """A supervised method: trained once on the train drive, then every test set."""
+def classes_option(models):
+    """train_classifier's --classes: the classes that got a model, when build_models left some
+    out (too few objects or points), so that the classifiers learn the classes the registration
+    methods can answer; none when every class has its model."""
+    with open(os.path.join(models, "models.json"), encoding="utf-8") as stream:
+        document = json.load(stream)
+    left_out = document.get("left_out") or {}
+    kept = sorted(set(document["classes"]) - set(left_out))
+    return ["--classes", ",".join(kept)] if left_out else []
+
+
+def train_and_classify(method, train_objects, test_run, classifiers, results, config_file,
+                       models):
+    """A supervised method: trained once on the train drive (the classes with models), then
+    every test set."""
     model = os.path.join(classifiers, f"{method}.yml")
     command = ["rosrun", "granular_ros", "train_classifier", "--objects", train_objects,
-               "--method", method, "--out", model]
+               "--method", method, "--out", model] + classes_option(models)
     command += ["--config", config_file] if config_file else []
     print(f"run_evaluation: training {method}", flush=True)
     run_tool(command, f"train_classifier --method {method}")
@@ -77,7 +91,7 @@ def train_and_classify_fitness(fitness_from, models, train_objects, test_run, cl
     model = os.path.join(classifiers, "svm_fitness.yml")
     command = ["rosrun", "granular_ros", "train_classifier", "--method", "svm_fitness",
                "--registration", ",".join(train_results), "--objects", train_objects,
-               "--out", model]
+               "--out", model] + classes_option(models)
     command += ["--config", config_file] if config_file else []
     print("run_evaluation: training svm_fitness", flush=True)
     run_tool(command, "train_classifier --method svm_fitness")
@@ -220,7 +234,7 @@ def evaluate(train_bags, test_bag, out, methods, thresholds, presets, config_dir
                                            test_run.config_file("classification.yaml"))
             else:
                 train_and_classify(method, train_objects, test_run, classifiers, results,
-                                   test_run.config_file("supervised.yaml"))
+                                   test_run.config_file("supervised.yaml"), models)
         try:
             return report.make_report(results, os.path.join(out, "report"),
                                       os.path.join(models, "pictures"),

@@ -14,10 +14,12 @@ OUT/FAILED naming it, and its exit status is the runner's.
 import argparse
 import dataclasses
 import os
+import signal
 import time
 
 from ..models import pictures
-from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
+from ..output import (Interrupted, OutputError, check_output_folder, claimed_folder, resolve,
+                      run_main)
 from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
                      bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
                      frames_stage, positive_number, run_tool, sensor_option)
@@ -124,8 +126,12 @@ def models_stage(run):
     command += ["--config", config_file] if config_file else []
     command += ["--overwrite"] if run.overwrite else []
     run_tool(command, "models (build_models)")
-    if pictures.render_folder(models, overwrite=True) != 0:
-        raise StageError("models (render_models)", "failed (its message is above)")
+    status = pictures.render_folder(models, overwrite=True)
+    if status - 128 in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        # The pictures were interrupted: the run is, not failed (FAILED says so, exit 130/143).
+        raise Interrupted(status - 128)
+    if status != 0:
+        raise StageError("models (render_models)", "failed (its message is above)", status)
 
 
 def run(pipeline_run):

@@ -1,0 +1,117 @@
+#include "granular_core/cuboids/vehicle_split.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "granular_core/geometry/footprint.h"
+
+namespace granular {
+namespace {
+
+// The height of `point` above the object's road (a flat road through its lowest point when it
+// has none).
+double heightAbove(const ObjectView& object, const Eigen::Vector3d& point, double lowest) {
+  return object.ground ? object.ground->heightOf(point) : point.z() - lowest;
+}
+
+// Where to cut `points` along `axis` (a unit vector on the ground), as a distance along it,
+// or none.
+std::optional<double> cutAlong(const ObjectView& object, const std::vector<std::size_t>& points,
+                               const Eigen::Vector2d& axis, double lowest,
+                               const VehicleSplitConfig& config) {
+  double from = 1e9, to = -1e9;
+  for (const std::size_t i : points) {
+    const double along = object.points[i].head<2>().dot(axis);
+    from = std::min(from, along), to = std::max(to, along);
+  }
+  const auto bins = static_cast<std::size_t>((to - from) / config.bin) + 1;
+  std::vector<double> top(bins, 0.0);
+  for (const std::size_t i : points) {
+    const double height = heightAbove(object, object.points[i], lowest);
+    if (height < config.road_height) {
+      continue;
+    }
+    const auto bin = std::min(bins - 1, static_cast<std::size_t>(
+                                            (object.points[i].head<2>().dot(axis) - from) /
+                                            config.bin));
+    top[bin] = std::max(top[bin], height);
+  }
+  const auto edge = static_cast<std::size_t>(config.min_piece / config.bin);
+  std::optional<std::size_t> best;
+  for (std::size_t bin = edge; bin + edge < bins; ++bin) {
+    const double before = *std::max_element(top.begin(), top.begin() + static_cast<long>(bin));
+    const double after = *std::max_element(top.begin() + static_cast<long>(bin) + 1, top.end());
+    if (top[bin] <= std::min(before, after) - config.min_drop &&
+        (!best || top[bin] < top[*best])) {
+      best = bin;
+    }
+  }
+  if (!best) {
+    return std::nullopt;
+  }
+  return from + (static_cast<double>(*best) + 0.5) * config.bin;
+}
+
+void split(const ObjectView& object, std::vector<std::size_t> points, double lowest,
+           const VehicleSplitConfig& config, int depth, std::vector<ObjectView>& pieces) {
+  std::vector<Eigen::Vector2d> footprint;
+  double top = 0.0;
+  for (const std::size_t i : points) {
+    footprint.push_back(object.points[i].head<2>());
+    top = std::max(top, heightAbove(object, object.points[i], lowest));
+  }
+  const Rectangle rectangle = minimumAreaRectangle(footprint);
+  const Eigen::Vector2d length_axis(std::cos(rectangle.yaw), std::sin(rectangle.yaw));
+  const Eigen::Vector2d width_axis(-length_axis.y(), length_axis.x());
+  std::optional<std::pair<Eigen::Vector2d, double>> cut;
+  if (depth < config.max_cuts && top <= config.max_top) {
+    // Across the wider excess first: cars side by side, then nose to tail.
+    if (rectangle.width > config.max_width) {
+      if (const auto at = cutAlong(object, points, width_axis, lowest, config)) {
+        cut.emplace(width_axis, *at);
+      }
+    }
+    if (!cut && rectangle.length > config.max_length) {
+      if (const auto at = cutAlong(object, points, length_axis, lowest, config)) {
+        cut.emplace(length_axis, *at);
+      }
+    }
+  }
+  if (!cut) {
+    ObjectView piece = object;
+    piece.points.clear();
+    for (const std::size_t i : points) {
+      piece.points.push_back(object.points[i]);
+    }
+    pieces.push_back(std::move(piece));
+    return;
+  }
+  std::vector<std::size_t> near, far;
+  for (const std::size_t i : points) {
+    (object.points[i].head<2>().dot(cut->first) < cut->second ? near : far).push_back(i);
+  }
+  split(object, std::move(near), lowest, config, depth + 1, pieces);
+  split(object, std::move(far), lowest, config, depth + 1, pieces);
+}
+
+}  // namespace
+
+std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSplitConfig& config) {
+  if (!config.enabled || object.points.size() < 3) {
+    return {object};
+  }
+  double lowest = 1e9;
+  for (const Eigen::Vector3d& p : object.points) {
+    lowest = std::min(lowest, p.z());
+  }
+  std::vector<std::size_t> points(object.points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = i;
+  }
+  std::vector<ObjectView> pieces;
+  split(object, std::move(points), lowest, config, 0, pieces);
+  return pieces;
+}
+
+}  // namespace granular

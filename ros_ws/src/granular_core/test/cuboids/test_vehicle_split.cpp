@@ -1,0 +1,81 @@
+// splitVehicles: touching parked cars are cut apart at the valleys of their height profile.
+#include <gtest/gtest.h>
+
+#include "granular_core/cuboids/vehicle_split.h"
+
+namespace granular {
+namespace {
+
+constexpr double kSensorHeight = 2.5;
+
+// The upper faces and sides of a car (4.5 x 1.8 m, body to 1.0 m, roof to 1.5 m over its middle
+// 2.2 m) centred at (x, y), its length along x, sampled every 0.1 m: what a mast sees.
+void addCar(std::vector<Eigen::Vector3d>& points, double x, double y) {
+  for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.1) {
+    for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.1) {
+      const bool cabin = std::abs(u) <= 1.1 && std::abs(v) <= 0.75;
+      points.emplace_back(x + u, y + v, -kSensorHeight + (cabin ? 1.5 : 1.0));
+    }
+    for (double h = 0.3; h < 1.0; h += 0.1) {
+      points.emplace_back(x + u, y - 0.9, -kSensorHeight + h);
+      points.emplace_back(x + u, y + 0.9, -kSensorHeight + h);
+    }
+  }
+}
+
+ObjectView viewOf(std::vector<Eigen::Vector3d> points) {
+  ObjectView view;
+  view.points = std::move(points);
+  GroundPlane road;
+  road.offset = kSensorHeight;
+  view.ground = road;
+  return view;
+}
+
+TEST(VehicleSplitTest, TwoCarsParkedHalfAMetreApartSideBySideAreTwoPieces) {
+  std::vector<Eigen::Vector3d> points;
+  addCar(points, 10.0, 0.0);
+  const std::size_t first = points.size();
+  addCar(points, 10.0, 2.3);  // 1.8 m wide each: 0.5 m between them
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  // Each piece is one car: all of its points and none of the other's.
+  std::vector<std::size_t> sizes{pieces[0].points.size(), pieces[1].points.size()};
+  std::sort(sizes.begin(), sizes.end());
+  EXPECT_EQ(sizes[0], first);
+  EXPECT_EQ(sizes[1], points.size() - first);
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      low = std::min(low, p.y()), high = std::max(high, p.y());
+    }
+    EXPECT_NEAR(high - low, 1.8, 1e-6);
+    ASSERT_TRUE(piece.ground);
+  }
+}
+
+TEST(VehicleSplitTest, NoseToTailCarsAreCutBetweenThem) {
+  std::vector<Eigen::Vector3d> points;
+  addCar(points, 10.0, 0.0);
+  addCar(points, 15.1, 0.0);  // 0.6 m between the boot and the bonnet
+  EXPECT_EQ(splitVehicles(viewOf(points), VehicleSplitConfig()).size(), 2u);
+}
+
+TEST(VehicleSplitTest, OneCarOrATallerObjectIsLeftWhole) {
+  std::vector<Eigen::Vector3d> car;
+  addCar(car, 10.0, 0.0);
+  EXPECT_EQ(splitVehicles(viewOf(car), VehicleSplitConfig()).size(), 1u);
+  // Two cars under a 3 m tall awning: taller than a car, so a truck or a bus, not cut.
+  std::vector<Eigen::Vector3d> points;
+  addCar(points, 10.0, 0.0);
+  addCar(points, 10.0, 2.3);
+  points.emplace_back(10.0, 1.0, -kSensorHeight + 3.0);
+  EXPECT_EQ(splitVehicles(viewOf(points), VehicleSplitConfig()).size(), 1u);
+  VehicleSplitConfig off;
+  off.enabled = false;
+  points.pop_back();
+  EXPECT_EQ(splitVehicles(viewOf(points), off).size(), 1u);
+}
+
+}  // namespace
+}  // namespace granular

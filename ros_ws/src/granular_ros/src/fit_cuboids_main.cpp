@@ -8,6 +8,7 @@
 
 #include <granular_core/dataset/models_folder.h>
 #include <granular_core/runs/fit_cuboids_run.h>
+#include <granular_core/tracking/tracking_config.h>
 #include <pcl/console/print.h>
 
 #include "granular_ros/box_free_options.h"
@@ -54,6 +55,14 @@ std::string usage() {
          "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
          "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
          "                         BoxTruck,SchoolBus for the simulator\n"
+         "  --track                track the cuboids from frame to frame (docs/tracking.md):\n"
+         "                         only the cuboids of born tracks are written, each with its\n"
+         "                         track's id, velocity (velocity.linear, m/s, sensor frame)\n"
+         "                         and class so far (label, and the share of the votes as\n"
+         "                         score; the cuboid's own while no frame voted); the sensor's\n"
+         "                         own motion is not taken out. Without it every cuboid is\n"
+         "                         written, numbered per frame, at rest\n"
+         "  --tracking-config FILE YAML file like config/tracking.yaml (implies --track)\n"
          "  --threads N            threads fitting a frame's objects (default: every core)\n"
          "  --overwrite            replace --out when a granular tool wrote it (a folder of\n"
          "                         other files is never replaced)\n"
@@ -70,7 +79,10 @@ std::string usage() {
          "SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
-         granular_ros::configurationHelp<granular::CuboidConfig>();
+         granular_ros::configurationHelp<granular::CuboidConfig>() +
+         "\n"
+         "tracking keys (--tracking-config) and their defaults:\n" +
+         granular_ros::configurationHelp<granular::TrackingConfig>();
 }
 
 struct Options {
@@ -83,6 +95,8 @@ struct Options {
   std::optional<std::string> classifier_file;
   granular_ros::BoxFreeOptions box_free;
   std::optional<std::string> prior_classes;
+  bool track = false;
+  std::optional<std::string> tracking_config_file;
   int threads = 0;
   bool overwrite = false;
 };
@@ -104,6 +118,8 @@ int main(int argc, char** argv) {
       .value("--boxes", options.boxes)
       .value("--classifier", options.classifier_file)
       .value("--prior-classes", options.prior_classes)
+      .flag("--track", options.track)
+      .value("--tracking-config", options.tracking_config_file)
       .threads("--threads", options.threads);
   options.box_free.addTo(tool.options());
   const auto configure = [&] {
@@ -123,6 +139,10 @@ int main(int argc, char** argv) {
     run.segmentation = options.box_free.segmentation();
     if (options.boxes) {
       run.boxes = granular_ros::parseChoice<granular::CuboidInputs>("--boxes", *options.boxes);
+    }
+    if (options.track || options.tracking_config_file) {
+      run.tracking = granular_ros::buildConfig<granular::TrackingConfig>(
+          options.tracking_config_file);
     }
     if (options.classifier_file && run.boxes != granular::CuboidInputs::kSegments) {
       throw std::invalid_argument("--classifier decides on segments: it needs --boxes segment");

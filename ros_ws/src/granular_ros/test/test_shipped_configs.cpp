@@ -1,4 +1,4 @@
-// The shipped config/supervised.yaml, segmentation.yaml, ground.yaml and cuboids.yaml load, validate, and
+// The shipped config/supervised.yaml, segmentation.yaml, ground.yaml, cuboids.yaml and tracking.yaml load, validate, and
 // state the defaults (where they differ on purpose, the test says which value and why).
 #include <filesystem>
 #include <string>
@@ -7,6 +7,7 @@
 #include <granular_core/cuboids/cuboid_config.h>
 #include <granular_core/segmentation/object_segmentation.h>
 #include <granular_core/supervised/supervised_classifier.h>
+#include <granular_core/tracking/tracking_config.h>
 
 #include "granular_ros/box_free_options.h"
 #include "granular_ros/config_file.h"
@@ -120,6 +121,16 @@ TEST(ShippedConfigTest, CuboidsYamlStatesTheCuboidDefaults) {
   // The file leaves the registration out; the rest it states.
   cuboids.model.registration = granular::CuboidConfig().model.registration;
   EXPECT_TRUE(cuboids == granular::CuboidConfig());
+}
+
+TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
+  granular::TrackingConfig tracking;
+  tracking.gate.min_overlap = 0.0;  // values the file must set back
+  tracking.filter.yaw_gain = 1.0;
+  tracking.vote = granular::ClassVote::kVotes;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
+  EXPECT_NO_THROW(granular::validate(tracking));
+  EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 
 using ShippedConfigKeysTest = TemporaryYamlTest;

@@ -399,6 +399,69 @@ def test_no_matched_pairs_still_gives_a_report(tmp_path):
     assert (tmp_path / "report" / "yaw_error.png").exists()
 
 
+# ---------------------------------------------------------------------------- tracking
+
+def drive(frames):
+    """{stamp: boxes} of frames 0.1 s apart from a list of box lists."""
+    return {str(1586102742000000000 + 100000000 * k): boxes for k, boxes in enumerate(frames)}
+
+
+def test_tracking_counts_misses_false_positives_and_identity_switches(tmp_path):
+    # Vehicle 1 is followed by track 7, then by track 8 (a switch); vehicle 2 by track 9,
+    # missed in frame 4; frame 5 holds a false track far from both. 12 truths, 11 followed.
+    truth, predicted = [], []
+    for k in range(6):
+        truth.append([box_json(1, "Sedan", 10.0 + k, 0.0), box_json(2, "SUV", -10.0, 5.0)])
+        boxes = [box_json(7 if k < 3 else 8, "Sedan", 10.1 + k, 0.0)]
+        boxes += [box_json(9, "SUV", -10.0, 5.2)] if k != 4 else []
+        boxes += [box_json(10, "Jeep", 30.0, 30.0)] if k == 5 else []
+        predicted.append(boxes)
+    status, summary = evaluate(tmp_path, drive(truth), drive(predicted), "--tracking")
+    assert status == 0
+    tracking = summary["tracking"]
+    assert (tracking["truths"], tracking["tp"], tracking["fp"], tracking["fn"],
+            tracking["id_switches"]) == (12, 11, 1, 1, 1)
+    assert tracking["mota"] == pytest.approx(1 - 3 / 12)
+    assert tracking["id_switches_per_100_track_frames"] == pytest.approx(100 / 11)
+    assert (tracking["vehicles_followed"], tracking["tracks_following"]) == (2, 3)
+    index = (tmp_path / "report" / "index.md").read_text()
+    assert "| 0.750 | 11 | 1 | 1 | 1 | 9.09 | 2 | 3 |" in index
+
+
+def test_a_track_back_on_its_vehicle_is_a_second_switch_and_misfits_are_no_correspondence(
+        tmp_path):
+    # Vehicle 1: tracks 7, 8, 7 (two switches); in frame 3 track 7 is 0.8 m off (beyond the
+    # paper's 0.5 m): a miss and a false positive, and no switch.
+    truth = [[box_json(1, "Sedan", 10.0 + k, 0.0)] for k in range(4)]
+    predicted = [[box_json(7, "Sedan", 10.0, 0.0)], [box_json(8, "Sedan", 11.0, 0.0)],
+                 [box_json(7, "Sedan", 12.0, 0.0)], [box_json(7, "Sedan", 13.8, 0.0)]]
+    status, summary = evaluate(tmp_path, drive(truth), drive(predicted), "--tracking")
+    assert status == 0
+    tracking = summary["tracking"]
+    assert (tracking["tp"], tracking["fp"], tracking["fn"], tracking["id_switches"]) == \
+        (3, 1, 1, 2)
+    assert tracking["mota"] == pytest.approx(1 - 4 / 4)
+
+
+def test_a_track_settles_on_its_class_from_the_frame_its_label_stays_right(tmp_path):
+    # Track 7 says unknown, SUV, Sedan, Sedan of a Sedan: settled from its third frame. Track 8
+    # ends on a wrong label: never settled. Without --tracking there is no tracking section.
+    labels_7 = ["unknown", "SUV", "Sedan", "Sedan"]
+    labels_8 = ["Jeep", "Jeep", "Jeep", "SUV"]
+    truth = [[box_json(1, "Sedan", 10.0, 0.0), box_json(2, "Jeep", 0.0, 10.0)]
+             for _ in range(4)]
+    predicted = [[box_json(7, labels_7[k], 10.0, 0.0), box_json(8, labels_8[k], 0.0, 10.0)]
+                 for k in range(4)]
+    status, summary = evaluate(tmp_path, drive(truth), drive(predicted), "--tracking")
+    assert status == 0
+    tracking = summary["tracking"]
+    assert tracking["class_settled_tracks"] == 1
+    assert tracking["frames_to_settle"]["median"] == 3
+    assert tracking["mota"] == 1.0
+    status, summary = evaluate(tmp_path, drive(truth), drive(predicted))
+    assert status == 0 and "tracking" not in summary
+
+
 # ---------------------------------------------------------------------------- bad input
 
 def run_script(*args):

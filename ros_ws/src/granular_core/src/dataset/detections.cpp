@@ -129,6 +129,10 @@ std::vector<Detection> readDetectionsJson(const std::filesystem::path& file,
     if (node.contains("score")) {
       detection.score = reader.number(node, path, "score");
     }
+    if (node.contains("velocity")) {
+      const json& velocity = reader.child(node, path, "velocity");
+      detection.velocity = reader.vector3(velocity, path + ".velocity", "linear");
+    }
     if (node.contains("header") && node["header"].is_object() &&
         node["header"].contains("frame_id") && node["header"]["frame_id"].is_string()) {
       detection.frame_id = node["header"]["frame_id"].get<std::string>();
@@ -168,7 +172,9 @@ std::string detectionsJson(const std::vector<Detection>& detections,
     entry["label"] = detection.label;
     entry["score"] = detection.score;
     entry["bbox"] = bbox;
-    entry["velocity"] = {{"linear", xyz(0, 0, 0)}, {"angular", xyz(0, 0, 0)}};
+    const Eigen::Vector3d& velocity = detection.velocity;
+    entry["velocity"] = {{"linear", xyz(velocity.x(), velocity.y(), velocity.z())},
+                         {"angular", xyz(0, 0, 0)}};
     array.push_back(entry);
   }
   Ordered document = Ordered::object();

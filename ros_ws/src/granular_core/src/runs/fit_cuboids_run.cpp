@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <deque>
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include "granular_core/cuboids/vehicle_split.h"
 #include "granular_core/extraction/extract_objects.h"
 #include "granular_core/parallel.h"
+#include "granular_core/tracking/tracker.h"
 #include "background_decision.h"
 #include "run_helpers.h"
 
@@ -44,6 +47,60 @@ struct Input {
   std::optional<runs::BackgroundDecision> decision;
 };
 
+// A frame's cuboids, written once the tracks that may still be born from them have been.
+struct PendingFrame {
+  std::string stamp;
+  DetectionsHeader header;
+  std::vector<Detection> fitted;   // every cuboid fitted in the frame
+  std::vector<Detection> written;  // those to write: with tracking, the tracks' only
+};
+
+// `cuboid` as the track's: its id, velocity and class (where a frame voted), turned about the
+// sensor's z to the track's smoothed yaw (by at most 90 degrees: its own front kept). The
+// smoothed yaw misses the paper's 10 degrees less often than the frame's own (simulated train
+// drive: MOTA 0.743 -> 0.760, docs/tracking.md); the centre stays the fitted one.
+Detection trackCuboid(const Track& track, Detection cuboid) {
+  const double yaw = OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size).yaw();
+  const double turn = std::remainder(track.box.yaw() - yaw, M_PI);
+  cuboid.orientation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ())) * cuboid.orientation;
+  cuboid.id = track.id;
+  cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
+  if (track.share > 0.0) {
+    cuboid.label = track.label;
+    cuboid.score = track.share;
+  }
+  return cuboid;
+}
+
+// Tracks `frame` (the last of `pending`): its cuboids of reported tracks go to its written
+// list, and a track born in it adds its tentative frames' cuboids to theirs (offline, those
+// frames are still pending: `pending` holds the last birth_hits frames).
+void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame>& pending,
+                const std::vector<Observation>& observations) {
+  PendingFrame& frame = pending.back();
+  const double stamp =
+      static_cast<double>(frame.header.secs) + 1e-9 * static_cast<double>(frame.header.nsecs);
+  std::vector<Track> tracks;
+  try {
+    tracks = tracker.update(stamp, observations);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(cloud.string() + ": tracking needs frames in increasing stamps: " +
+                             error.what());
+  }
+  for (const Track& track : tracks) {
+    if (track.observation) {  // none while coasting
+      frame.written.push_back(trackCuboid(track, frame.fitted[*track.observation]));
+    }
+    const std::size_t before = track.earlier_observations.size();
+    for (std::size_t i = 0; i < before; ++i) {
+      PendingFrame& earlier = pending[pending.size() - 1 - before + i];
+      earlier.written.push_back(
+          trackCuboid(track, earlier.fitted[track.earlier_observations[i]]));
+    }
+  }
+}
+
 }  // namespace
 
 void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
@@ -59,6 +116,10 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
                 method.c_str(), boxes == CuboidInputs::kSegments ? "segments" : "detections",
                 frames, objects, fitted, seconds);
   out << line;
+  if (tracked) {
+    out << "  tracks born: " << tracks << "; cuboids of tracks never born, not written: "
+        << tentative << '\n';
+  }
   if (called_background > 0) {
     out << "  segments called Background (no cuboid): " << called_background << '\n';
   }
@@ -96,6 +157,29 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   OutputFolder output(out, "fit_cuboids", options.output, {frames});
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
+  std::optional<Tracker> tracker;
+  // Frames not written yet: a track born later may still add cuboids to them.
+  std::deque<PendingFrame> pending;
+  std::size_t held_frames = 0;
+  if (options.tracking) {
+    tracker.emplace(*options.tracking);
+    summary.tracked = true;
+    held_frames = options.tracking->birth_hits - 1;
+  }
+  const auto write = [&](PendingFrame& frame) {
+    if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
+      std::sort(frame.written.begin(), frame.written.end(),
+                [](const Detection& a, const Detection& b) { return a.id < b.id; });
+    }
+    for (const Detection& cuboid : frame.written) {
+      ++summary.labels[cuboid.label];
+    }
+    summary.fitted += frame.written.size();
+    summary.tentative += frame.fitted.size() - frame.written.size();
+    writeFile(output.staging() / (frame.stamp + ".json"),
+              detectionsJson(frame.written, frame.header), "JSON");
+    ++summary.frames;
+  };
 
   for (std::size_t frame = 0; frame < stamps.size(); ++frame) {
     const std::string& stamp = stamps[frame];
@@ -219,7 +303,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
               .count();
     });
 
-    std::vector<Detection> cuboids;
+    PendingFrame pending_frame{stamp, header, {}, {}};
+    std::vector<Observation> observations;
     for (std::size_t i = 0; i < inputs.size(); ++i) {
       ++summary.objects;
       summary.milliseconds.push_back(milliseconds[i]);
@@ -246,15 +331,26 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.centre = fitted[i]->box.centre();
       cuboid.orientation = fitted[i]->box.orientation();
       cuboid.size = fitted[i]->box.size();
-      cuboids.push_back(cuboid);
-      ++summary.labels[cuboid.label];
+      pending_frame.fitted.push_back(cuboid);
+      observations.push_back(Observation{fitted[i]->box, cuboid.label, cuboid.score});
     }
-    summary.fitted += cuboids.size();
-    writeFile(output.staging() / (stamp + ".json"), detectionsJson(cuboids, header), "JSON");
-    ++summary.frames;
+    pending.push_back(std::move(pending_frame));
+    if (tracker) {
+      trackFrame(*tracker, frames / "pcd" / (stamp + ".pcd"), pending, observations);
+      summary.tracks = tracker->born();
+    } else {
+      pending.back().written = pending.back().fitted;
+    }
+    while (pending.size() > held_frames) {
+      write(pending.front());
+      pending.pop_front();
+    }
     if (options.progress) {
       options.progress(frame + 1, stamps.size());
     }
+  }
+  for (; !pending.empty(); pending.pop_front()) {
+    write(pending.front());
   }
   output.commit();
   summary.seconds =

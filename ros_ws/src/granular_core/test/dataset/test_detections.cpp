@@ -41,6 +41,7 @@ TEST_F(DetectionsJsonTest, ReadsTheBagToFilesLayout) {
   EXPECT_EQ(detection.orientation.z(), 0.0053);
   EXPECT_EQ(detection.orientation.w(), -0.99998);
   EXPECT_EQ(detection.size, Eigen::Vector3d(4.56, 2.08, 1.35));
+  EXPECT_EQ(detection.velocity, Eigen::Vector3d(9.6, 0, 0));
 }
 
 void expectErrorMentions(const fs::path& file, const std::vector<std::string>& parts) {
@@ -86,6 +87,7 @@ TEST_F(DetectionsJsonTest, WrittenDetectionsReadBackExactly) {
   box.orientation = Eigen::Quaterniond(0.9, 0.1, -0.2, 0.3);
   box.size = {4.5, 1.8, 1.0 / 7.0};
   box.score = 0.25;
+  box.velocity = {3.5, -0.25, 1.0 / 3.0};
   const DetectionsHeader header{1586102742, 765440, "velodyne"};
   const fs::path file = write("written.json", detectionsJson({box, Detection()}, header));
   DetectionsHeader read_header;
@@ -98,6 +100,8 @@ TEST_F(DetectionsJsonTest, WrittenDetectionsReadBackExactly) {
   EXPECT_EQ(read[0].size, box.size);
   EXPECT_EQ(read[0].score, 0.25);
   EXPECT_EQ(read[1].score, 1.0);
+  EXPECT_EQ(read[0].velocity, box.velocity);
+  EXPECT_EQ(read[1].velocity, Eigen::Vector3d::Zero());
   EXPECT_EQ(read_header.secs, 1586102742);
   EXPECT_EQ(read_header.nsecs, 765440);
   EXPECT_EQ(read_header.frame_id, "velodyne");

@@ -40,19 +40,7 @@ class FitCuboidsFolderTest : public TemporaryFolderTest {
     frames_ = root_ / "frames";
     car_.centre = {10.0, 3.0};
     car_.yaw = 20.0 * M_PI / 180.0;
-    Cloud cloud;
-    for (double range = 3.0; range < 40.0; range *= 1.03) {
-      for (double azimuth = -M_PI; azimuth < M_PI; azimuth += 0.4 * M_PI / 180.0) {
-        cloud.push_back(PointXYZIT(static_cast<float>(range * std::cos(azimuth)),
-                                   static_cast<float>(range * std::sin(azimuth)),
-                                   static_cast<float>(-kSensorHeight), 0, 0.0));
-      }
-    }
-    for (const Eigen::Vector3d& p :
-         seenFaces(car_, Eigen::Vector3d(0, 0, kSensorHeight), 0.05)) {
-      cloud.push_back(PointXYZIT(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                                 static_cast<float>(p.z() - kSensorHeight), 0, 0.0));
-    }
+    const Cloud cloud = scene({car_});
     fs::create_directories(frames_ / "pcd");
     writePcdBinary(frames_ / "pcd" / (stamp_ + ".pcd"), cloud);
     writePcdBinary(frames_ / "pcd" / (bare_stamp_ + ".pcd"), cloud);
@@ -65,6 +53,26 @@ class FitCuboidsFolderTest : public TemporaryFolderTest {
                     "," +
                     detectionJson(138, "Decoy", R"({"x": -20.0, "y": 5.0, "z": -0.98})",
                                   R"({"x": 4.5, "y": 1.8, "z": 1.5})")));
+  }
+
+  // The road and the faces of the cars the sensor sees.
+  static Cloud scene(const std::vector<StandingBox>& cars) {
+    Cloud cloud;
+    for (double range = 3.0; range < 40.0; range *= 1.03) {
+      for (double azimuth = -M_PI; azimuth < M_PI; azimuth += 0.4 * M_PI / 180.0) {
+        cloud.push_back(PointXYZIT(static_cast<float>(range * std::cos(azimuth)),
+                                   static_cast<float>(range * std::sin(azimuth)),
+                                   static_cast<float>(-kSensorHeight), 0, 0.0));
+      }
+    }
+    for (const StandingBox& car : cars) {
+      for (const Eigen::Vector3d& p :
+           seenFaces(car, Eigen::Vector3d(0, 0, kSensorHeight), 0.05)) {
+        cloud.push_back(PointXYZIT(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                                   static_cast<float>(p.z() - kSensorHeight), 0, 0.0));
+      }
+    }
+    return cloud;
   }
 
   // The test car's size as the only prior.
@@ -174,6 +182,76 @@ TEST_F(FitCuboidsFolderTest, SegmentsDoNotNeedAReadableDetectionsFile) {
       readDetectionsJson(root_ / "cuboids" / (stamp_ + ".json"));
   ASSERT_EQ(cuboids.size(), 1u);
   expectTheCar(cuboids[0]);
+}
+
+TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
+  // Five frames 0.1 s apart (stamps from the names) of the car driving along its heading at
+  // 10 m/s, and in frame 3 a parked car that is gone in frame 4. The car's track is born in
+  // frame 2 and written from frame 0 on; the parked car's never is.
+  const fs::path drive = root_ / "drive";
+  fs::create_directories(drive / "pcd");
+  const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
+  StandingBox parked;
+  parked.centre = {-12.0, -6.0};
+  std::vector<std::string> stamps;
+  for (int k = 0; k < 5; ++k) {
+    StandingBox car = car_;
+    car.centre += 1.0 * k * heading;
+    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
+    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"),
+                   k == 3 ? scene({car, parked}) : scene({car}));
+  }
+  FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
+  tracked.tracking = TrackingConfig();
+  tracked.tracking->birth_hits = 3;
+  const FitCuboidsSummary summary =
+      fitCuboidsFolder(drive, root_ / "tracked", carPrior(), tracked);
+  EXPECT_EQ(summary.frames, 5u);
+  EXPECT_EQ(summary.tracks, 1u);
+  EXPECT_EQ(summary.tentative, 1u);
+  EXPECT_EQ(summary.fitted, 5u);
+  std::vector<Detection> written;
+  for (int k = 0; k < 5; ++k) {
+    const std::vector<Detection> cuboids =
+        readDetectionsJson(root_ / "tracked" / (stamps[k] + ".json"));
+    ASSERT_EQ(cuboids.size(), 1u) << "frame " << k;
+    EXPECT_EQ(cuboids[0].id, 1);
+    EXPECT_EQ(cuboids[0].label, kUnknownLabel);  // nothing voted: the cuboid's own
+    written.push_back(cuboids[0]);
+  }
+  // The frames before the birth carry the velocity the track had when born.
+  EXPECT_EQ(written[0].velocity, written[2].velocity);
+  EXPECT_EQ(written[1].velocity, written[2].velocity);
+  EXPECT_LT((written[4].velocity.head<2>() - 10.0 * heading).norm(), 1.0)
+      << written[4].velocity.transpose();
+  EXPECT_LT((written[0].centre.head<2>() - car_.centre).norm(), 0.05);
+  // Without tracking: every cuboid, numbered in its frame, at rest.
+  const FitCuboidsSummary untracked =
+      fitCuboidsFolder(drive, root_ / "untracked", carPrior(), options(CuboidInputs::kSegments));
+  EXPECT_EQ(untracked.fitted, 6u);
+  const std::vector<Detection> crowded =
+      readDetectionsJson(root_ / "untracked" / (stamps[3] + ".json"));
+  ASSERT_EQ(crowded.size(), 2u);
+  EXPECT_EQ(crowded[0].id, 0);
+  EXPECT_EQ(crowded[1].id, 1);
+  EXPECT_EQ(crowded[0].velocity, Eigen::Vector3d::Zero());
+}
+
+TEST_F(FitCuboidsFolderTest, TrackingRefusesFramesWhoseStampsDoNotIncrease) {
+  // The second frame's detections file gives it the first frame's stamp.
+  write(frames_ / "detections_3d" / (bare_stamp_ + ".json"), frameJson(""));
+  FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
+  tracked.tracking = TrackingConfig();
+  try {
+    fitCuboidsFolder(frames_, root_ / "tracked", carPrior(), tracked);
+    FAIL() << "frames with one stamp were tracked";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find(bare_stamp_ + ".pcd: tracking needs frames in "
+                                             "increasing stamps"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(root_ / "tracked"));
 }
 
 TEST_F(FitCuboidsFolderTest, BadInputIsNamed) {

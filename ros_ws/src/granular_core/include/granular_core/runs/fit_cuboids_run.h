@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -14,6 +15,7 @@
 #include "granular_core/dataset/output_folder.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "granular_core/supervised/supervised_classifier.h"
+#include "granular_core/tracking/tracking_config.h"
 
 namespace granular {
 
@@ -44,6 +46,13 @@ struct FitCuboidsOptions {
   /// (kept as not sure enough). Null: the zero-shot vehicle decision (CuboidConfig::evidence,
   /// the objects segmentation only) decides which segments get a cuboid.
   const SupervisedClassifier* classifier = nullptr;
+  /// Tracking (docs/tracking.md): each frame's cuboids, in stamp order, go through a Tracker
+  /// with this config, and only the cuboids of its born tracks are written, each with its
+  /// track's id, velocity and class so far (label and share; the cuboid's own where no frame
+  /// voted yet), by id. Offline, a track's frames before its birth are written too (each
+  /// frame is held until the tracks that may still be born from it are). None: every cuboid
+  /// as fitted, numbered per frame, at rest.
+  std::optional<TrackingConfig> tracking;
   /// The class models, for the model-based method.
   std::vector<LabelledModel> models;
   /// Threads fitting a frame's objects; 0: every core.
@@ -60,8 +69,11 @@ struct FitCuboidsSummary {
   CuboidInputs boxes = CuboidInputs::kSegments;
   std::size_t frames = 0;   ///< frames written
   std::size_t objects = 0;  ///< segments or valid detections given to the fitter
-  std::size_t fitted = 0;   ///< cuboids written (the others had too few points)
+  std::size_t fitted = 0;   ///< cuboids written (the others had too few points, or no track)
   std::size_t called_background = 0;  ///< segments the classifier called Background
+  bool tracked = false;         ///< whether the cuboids went through the tracker
+  std::size_t tracks = 0;       ///< tracks born
+  std::size_t tentative = 0;    ///< cuboids not written: their track was never born
   /// Segments the zero-shot vehicle decision (CuboidConfig::evidence, segments without a
   /// classifier) gave no cuboid, by verdict name.
   std::map<std::string, std::size_t> not_vehicles;
@@ -89,15 +101,16 @@ struct FitCuboidsSummary {
 /// writes `out/<stamp>.json` per frame: a Detection3DArray in the layout of detections_3d/
 /// (detectionsJson), in the sensor frame, the frame's header kept; one detection per cuboid,
 /// its label and score the fitter's, its id the detection's (kDetections) or the segment's
-/// index in the frame (kSegments). A frame's ground is the road plane of the ground stage
-/// (options.ground); the occupancy segmentation has none, and its objects stand on their lowest
-/// point. With kDetections a cloud without its detections file
-/// is skipped and reported, as is a detection whose box is not a box.
+/// index in the frame (kSegments), or with options.tracking its track's. A frame's ground is
+/// the road plane of the ground stage (options.ground); the occupancy segmentation has none,
+/// and its objects stand on their lowest point. With kDetections a cloud without its
+/// detections file is skipped and reported, as is a detection whose box is not a box.
 ///
 /// `out` is an OutputFolder (locked, built beside, renamed into place when complete). Throws
 /// std::invalid_argument for a bad config or a model-based method without models, and
 /// std::runtime_error naming the folder or file for a missing pcd/ folder, a folder without
-/// clouds, unreadable input, an `out` that may not be replaced, and write failures.
+/// clouds, unreadable input, a frame whose stamp is not after the previous one's when
+/// tracking, an `out` that may not be replaced, and write failures.
 FitCuboidsSummary fitCuboidsFolder(const std::filesystem::path& frames,
                                    const std::filesystem::path& out, const CuboidConfig& config,
                                    const FitCuboidsOptions& options);

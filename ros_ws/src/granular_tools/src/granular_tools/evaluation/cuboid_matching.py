@@ -327,6 +327,7 @@ class Settings:
     filters: Filters
     gate: float = GATE_M
     class_map_source: str = "default"
+    tracking: bool = False  # the predicted ids are track ids: score them as tracks (tracks.py)
 
 
 def evaluate(settings, reporter=None):
@@ -349,6 +350,10 @@ def evaluate(settings, reporter=None):
                                               "tp": collections.Counter(),
                                               "tp_class": collections.Counter()})
     labels_seen = set()
+    tracks = None
+    if settings.tracking:
+        from .tracks import TrackTally  # here: tracks.py builds on this module
+        tracks = TrackTally(settings.class_map)
     for k, (stamp, truth_path) in enumerate(truth_files.items()):
         truths, dropped = load_detections(truth_path)
         skipped["truth"].update(dropped)
@@ -365,6 +370,8 @@ def evaluate(settings, reporter=None):
         frame = Tally()
         frame.add(result)
         overall.add(result)
+        if tracks:
+            tracks.add(result)
         per_frame[stamp] = frame_record(result, frame)
         all_errors += [p[2] for p in result.pairs]
         for i, truth in enumerate(truths):
@@ -391,6 +398,7 @@ def evaluate(settings, reporter=None):
                                                 for n in CRITERIA}}
                  for label, e in sorted(labels.items()) if e["truths"]}
     filters = settings.filters
+    tracking = {"tracking": tracks.summary()} if tracks else {}
     return {
         "tool": TOOL,
         "truth": absolute(truth_folder), "predicted": absolute(predicted_folder),
@@ -411,6 +419,7 @@ def evaluate(settings, reporter=None):
         "skipped_boxes": {side: dict(sorted(c.items())) for side, c in skipped.items()},
         "overall": {**overall.summary(), "errors": error_summary(all_errors),
                     "per_true_label": per_label},
+        **tracking,
         "per_frame": per_frame,
     }, all_errors
 

@@ -65,6 +65,26 @@ ERROR_TITLES = {"centre_3d_m": "centre, 3-D (m)", "centre_xy_m": "centre, x-y (m
                 "bev_iou": "bird's-eye IoU", "iou_3d": "3-D IoU"}
 
 
+def tracking_lines(tracking):
+    settle = tracking["frames_to_settle"]
+    return [
+        "## Tracking", "",
+        "The predicted ids are tracks, the true ids vehicles. A frame's pairs above that pass "
+        "the paper's criterion are its correspondences; a vehicle followed by another track "
+        "than the one that last followed it is an identity switch (IDSW). MOTA = 1 - (FN + FP "
+        "+ IDSW) / truths; switches per 100 track-frames = 100 IDSW / TP. A track settles on "
+        "its class in the frame (1: its first following a vehicle) from which its label counts "
+        "as the true label of the vehicle it followed most, to its last frame.", "",
+        "| MOTA | TP | FP | FN | IDSW | IDSW per 100 track-frames | vehicles | tracks "
+        "| tracks settled | frames to settle: median | mean | p90 |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        f"| {_cell(tracking['mota'])} | {tracking['tp']} | {tracking['fp']} | {tracking['fn']} "
+        f"| {tracking['id_switches']} | {_cell(tracking['id_switches_per_100_track_frames'], 2)} "
+        f"| {tracking['vehicles_followed']} | {tracking['tracks_following']} "
+        f"| {tracking['class_settled_tracks']} | {_cell(settle['median'], 1)} "
+        f"| {_cell(settle['mean'], 1)} | {_cell(settle['p90'], 1)} |"]
+
+
 def write_index(path, summary):
     overall, settings, frames = summary["overall"], summary["settings"], summary["frames"]
     filters = [f"true centre within {settings['max_range_m']:g} m (x-y) of the sensor"
@@ -107,6 +127,8 @@ def write_index(path, summary):
         for label, e in overall["per_true_label"].items():
             lines.append(f"| {label} | {e['truths']} | {e['matched']} | "
                          + " | ".join(_cell(e["recall"][n]) for n in CRITERIA) + " |")
+    if "tracking" in summary:
+        lines += [""] + tracking_lines(summary["tracking"])
     lines += ["", "## Histograms", "", "![centre error](centre_error.png)",
               "![yaw error](yaw_error.png)", "![size error](size_error.png)",
               "![IoU](iou.png)"]
@@ -195,6 +217,14 @@ def printed_table(summary):
                  f"{_cell(e['yaw_deg']['median'], 2)} deg, length "
                  f"{_cell(e['length_m']['median'])} m, width {_cell(e['width_m']['median'])} m, "
                  f"height {_cell(e['height_m']['median'])} m")
+    if "tracking" in summary:
+        t = summary["tracking"]
+        lines.append(f"  tracking (paper's criterion): MOTA {_cell(t['mota'])}, "
+                     f"{t['id_switches']} ID switches "
+                     f"({_cell(t['id_switches_per_100_track_frames'], 2)} per 100 track-frames), "
+                     f"{t['vehicles_followed']} vehicles followed by {t['tracks_following']} "
+                     f"tracks; {t['class_settled_tracks']} tracks settled on their class, in "
+                     f"{_cell(t['frames_to_settle']['median'], 1)} frames (median)")
     return "\n".join(lines)
 
 
@@ -264,6 +294,10 @@ def parser():
                    help="evaluate only truths with these labels (default: every label)")
     p.add_argument("--gate", type=_positive, default=GATE_M, metavar="M",
                    help=f"largest x-y centre distance of a matched pair (default: {GATE_M:g} m)")
+    p.add_argument("--tracking", action="store_true",
+                   help="the predicted ids are track ids and the true ids vehicles: also score "
+                        "the tracks (MOTA, identity switches per 100 track-frames and the "
+                        "frames a track needs to settle on its class; docs/tracking.md)")
     p.add_argument("--overwrite", action="store_true",
                    help="replace an output folder that holds an earlier report")
     p.add_argument("--quiet", action="store_true", help="no progress and no printed table")
@@ -282,7 +316,7 @@ def main(argv=None):
                             Filters(args.max_range, args.min_points,
                                     tuple(args.labels) if args.labels else None,
                                     args.field_of_view),
-                            args.gate, source)
+                            args.gate, source, args.tracking)
         reporter = None if args.quiet else progress.Reporter(TOOL, unit="frames")
         # Entered first: an output that may not be written is refused before the work.
         with OutputFolder(args.out, TOOL, args.overwrite) as folder:

@@ -1,8 +1,10 @@
 """run_cuboids: cuboids fitted to a bag's objects, and scored when the bag carries boxes.
 
 OUT/frames   bag to files (a bag without detections gives clouds only)
-OUT/cuboids  fit_cuboids: one <stamp>.json per frame, in detections_3d's layout
-OUT/report   evaluate_cuboids against the bag's own boxes (only when the bag has them)
+OUT/cuboids  fit_cuboids: one <stamp>.json per frame, in detections_3d's layout (with track:
+             the cuboids of born tracks, with their track ids and velocities)
+OUT/report   evaluate_cuboids against the bag's own boxes (only when the bag has them; with
+             track: the tracking figures too)
 
 With boxes segment the bag's boxes are truth only, never input: the objects are the box-free
 segmentation's segments. With boxes detections the fitter starts from the bag's boxes (grown by
@@ -40,6 +42,7 @@ class CuboidsRun(ConfigFolder):
     max_range: float = None     # the report's truths: within this range (m) ...
     min_points: int = None      # ... and with at least this many points ...
     labels: tuple = ()          # ... and these labels (none: every label)
+    track: bool = False         # track the cuboids (config_dir's tracking.yaml)
     overwrite: bool = False
 
     def folder(self, name):
@@ -74,7 +77,8 @@ class CuboidsRun(ConfigFolder):
 
 def cuboids_stage(run):
     run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
-                         run.method, run.models, run.classifier), "cuboids (fit_cuboids)")
+                         run.method, run.models, run.classifier, run.track),
+             "cuboids (fit_cuboids)")
 
 
 def report_stage(run):
@@ -83,6 +87,7 @@ def report_stage(run):
     for option, value in (("--max-range", run.max_range), ("--min-points", run.min_points)):
         command += [option, str(value)] if value is not None else []
     command += ["--labels", *run.labels] if run.labels else []
+    command += ["--tracking"] if run.track else []
     command += ["--overwrite"] if run.overwrite else []
     run_tool(command, "report (evaluate_cuboids)")
 
@@ -114,7 +119,8 @@ def main(argv=None):
         description="Fit cuboids to the objects of a bag: OUT/frames (bag to PCD + JSON pairs; "
                     "clouds only when the bag has no detections), OUT/cuboids (fit_cuboids: "
                     "<stamp>.json per frame in detections_3d's layout), and, when the bag "
-                    "carries boxes, OUT/report (evaluate_cuboids against them). With --boxes "
+                    "carries boxes, OUT/report (evaluate_cuboids against them; with --track the "
+                    "tracking figures too). With --boxes "
                     "segment the bag's boxes are truth only, never input. Every argument is "
                     "checked before the first stage; a failing stage stops the run, leaves "
                     "OUT/FAILED naming it and gives its exit status (2: bad arguments; "
@@ -132,9 +138,14 @@ def main(argv=None):
                         help="--boxes segment: the Background decision, a train_classifier file "
                              "trained with Background objects (extract_objects --background); "
                              "the segments it calls Background get no cuboid")
+    parser.add_argument("--track", action="store_true",
+                        help="track the cuboids from frame to frame (docs/tracking.md): only "
+                             "the cuboids of born tracks are written, with their track ids and "
+                             "velocities, and the report scores the tracks")
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder with bag_to_files.yaml, cuboids.yaml, ground.yaml, "
-                             "segmentation.yaml (default: the tools' built-in defaults)")
+                             "segmentation.yaml, tracking.yaml (default: the tools' built-in "
+                             "defaults)")
     add_sensor_options(parser)
     parser.add_argument("--max-range", default="", metavar="M",
                         help="report: only truths within M metres of the sensor")
@@ -160,7 +171,7 @@ def main(argv=None):
             max_range=positive_number(args.max_range, "max_range"),
             min_points=positive_number(args.min_points, "min_points", int),
             labels=tuple(label for label in args.labels.split(",") if label),
-            overwrite=args.overwrite)
+            track=args.track, overwrite=args.overwrite)
         run(cuboids_run)
         print(f"run_cuboids: done in {time.monotonic() - started:.1f} s; results in "
               f"{cuboids_run.out}")

@@ -134,11 +134,13 @@ def sensor_option(sensor, relative_to):
     return sensor or None
 
 
-def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None):
+def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None,
+                track=False):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
-    config_file(), sensor, sensor_height, azimuth_step, prior_classes and overwrite)."""
+    config_file(), sensor, sensor_height, azimuth_step, prior_classes and overwrite); `track`
+    tracks the cuboids with the config folder's tracking.yaml."""
     command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
-               "--boxes", boxes]
+               "--boxes", boxes] + (["--track"] if track else [])
     for option, value in (("--method", method), ("--models", models),
                           ("--classifier", classifier),
                           ("--config", run.config_file("cuboids.yaml")),
@@ -147,7 +149,9 @@ def fit_command(run, frames, out, boxes, method=None, models=None, classifier=No
                           ("--sensor", run.sensor),
                           ("--sensor-height", run.sensor_height),
                           ("--azimuth-step", run.azimuth_step),
-                          ("--prior-classes", run.prior_classes)):
+                          ("--prior-classes", run.prior_classes),
+                          ("--tracking-config",
+                           run.config_file("tracking.yaml") if track else None)):
         command += [option, str(value)] if value is not None else []
     return command + (["--overwrite"] if run.overwrite else [])
 

@@ -1,0 +1,96 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "granular_core/geometry/oriented_box.h"
+#include "granular_core/tracking/tracking_config.h"
+
+namespace granular {
+
+/// One cuboid of a frame, as the tracker takes it.
+struct Observation {
+  OrientedBox box;
+  std::string label;
+  double score = 1.0;
+};
+
+/// A reported track, as of the latest frame.
+struct Track {
+  std::uint32_t id = 0;  ///< from 1, in the order tracks were born; never reused
+  /// The filtered box: x-y centre from the filter, yaw (along the velocity above
+  /// heading_min_speed), size and centre height smoothed; turned about the sensor's z only.
+  OrientedBox box;
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< m/s, x-y in the sensor frame
+  /// The class its frames decided so far (TrackingConfig::vote; the abstain label until a
+  /// frame votes) and the share of the votes or scores that went to it (0 before any).
+  std::string label;
+  double share = 0.0;
+  std::size_t hits = 0;    ///< frames with a detection, in all
+  std::size_t misses = 0;  ///< frames in a row without one, up to the latest
+  /// This frame's observation (an index into update's input); none while the track coasts.
+  std::optional<std::size_t> observation;
+  /// In the frame the track is born only: its observations in the frames before, while it was
+  /// tentative (one in each of the birth_hits - 1 frames), oldest first, as indices into those
+  /// frames' inputs. An offline user may report the track there too; empty otherwise.
+  std::vector<std::size_t> earlier_observations;
+};
+
+/// Multi-object tracking of cuboids on the ground plane, frame by frame (docs/tracking.md): a
+/// constant-velocity Kalman filter per track (x, y, vx, vy), the least-cost assignment of
+/// detections to tracks on the x-y distance between the detection's centre and the track's
+/// predicted one, gated on that distance and on the footprints' overlap; a track is born after
+/// `birth_hits` frames with a detection in a row and dies after `death_misses` frames in a row
+/// without one; its class is decided over its frames. The sensor's own motion is not taken
+/// out: positions are in the sensor frame of each frame.
+class Tracker {
+ public:
+  /// Throws std::invalid_argument for a config out of range.
+  explicit Tracker(const TrackingConfig& config = TrackingConfig());
+
+  /// Takes one frame's observations at `stamp` (s) and returns the reported tracks: those born,
+  /// not yet dead, ordered by id, each with this frame's observation or none. Throws
+  /// std::invalid_argument when `stamp` is not finite or not after the previous frame's.
+  std::vector<Track> update(double stamp, const std::vector<Observation>& observations);
+
+  /// Tracks born so far (the reported ids run from 1 to this).
+  std::uint32_t born() const { return next_id_ - 1; }
+
+ private:
+  struct State {
+    std::uint32_t id = 0;  // 0 while tentative
+    Eigen::Vector4d x = Eigen::Vector4d::Zero();  // x, y, vx, vy
+    Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+    double yaw = 0.0;  // modulo pi until the track moves
+    double z = 0.0;
+    Eigen::Vector3d size = Eigen::Vector3d::Ones();
+    std::size_t hits = 0;
+    std::size_t streak = 0;  // frames with a detection in a row
+    std::size_t misses = 0;
+    std::optional<std::size_t> observation;
+    std::vector<std::size_t> tentative_observations;  // one per frame until born
+    // Per label, the votes or scores so far and the frame of its latest vote (ties).
+    std::map<std::string, double> weights;
+    std::map<std::string, std::size_t> last_vote;
+  };
+  // The track's predicted box at the stamp being taken (the filter's x-y, the rest smoothed).
+  OrientedBox predictedBox(const State& state) const;
+  Track reported(const State& state) const;
+  // Adds the observation's label to the track's class decision (the abstain label does not
+  // vote).
+  void vote(State& state, const Observation& observation) const;
+
+  TrackingConfig config_;
+  std::vector<State> states_;  // live tracks, tentative and reported, oldest first
+  std::optional<double> last_stamp_;
+  std::uint32_t next_id_ = 1;
+  std::size_t frames_ = 0;  // frames taken, for the ties of the class decision
+};
+
+}  // namespace granular

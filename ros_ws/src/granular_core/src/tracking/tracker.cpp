@@ -1,0 +1,210 @@
+#include "granular_core/tracking/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include "granular_core/geometry/overlap.h"
+#include "granular_core/tracking/assignment.h"
+
+namespace granular {
+namespace {
+
+// An angle's difference to 0 modulo pi, in [-pi/2, pi/2): a cuboid's front is not known.
+double axisDifference(double angle) {
+  return angle - M_PI * std::floor(angle / M_PI + 0.5);
+}
+
+OrientedBox boxOnGround(const Eigen::Vector2d& centre, double z, double yaw,
+                        const Eigen::Vector3d& size) {
+  return OrientedBox(Eigen::Vector3d(centre.x(), centre.y(), z),
+                     Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())), size);
+}
+
+}  // namespace
+
+Tracker::Tracker(const TrackingConfig& config) : config_(config) { validate(config_); }
+
+OrientedBox Tracker::predictedBox(const State& state) const {
+  return boxOnGround(state.x.head<2>(), state.z, state.yaw, state.size);
+}
+
+Track Tracker::reported(const State& state) const {
+  Track track{state.id, predictedBox(state), Eigen::Vector2d::Zero(), config_.abstain_label,
+              0.0, state.hits, state.misses, state.observation, {}};
+  track.velocity = state.x.tail<2>();
+  const double speed = track.velocity.norm();
+  if (speed >= config_.heading_min_speed) {
+    // The front taken to be the end the velocity points to; the axis stays.
+    const double heading = std::atan2(track.velocity.y(), track.velocity.x());
+    const double yaw = heading + axisDifference(state.yaw - heading);
+    track.box = boxOnGround(state.x.head<2>(), state.z, yaw, state.size);
+  }
+  double total = 0.0, best = 0.0;
+  std::size_t best_frame = 0;
+  for (const auto& [label, weight] : state.weights) {
+    total += weight;
+    const std::size_t frame = state.last_vote.at(label);
+    if (weight > best || (weight == best && frame > best_frame)) {
+      best = weight;
+      best_frame = frame;
+      track.label = label;
+    }
+  }
+  track.share = total > 0.0 ? best / total : 0.0;
+  return track;
+}
+
+std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>& observations) {
+  if (!std::isfinite(stamp) || (last_stamp_ && stamp <= *last_stamp_)) {
+    throw std::invalid_argument("Tracker: frame stamp " + std::to_string(stamp) +
+                                " is not after the previous frame's" +
+                                (last_stamp_ ? " (" + std::to_string(*last_stamp_) + ")" : ""));
+  }
+  const double dt = last_stamp_ ? stamp - *last_stamp_ : 0.0;
+  last_stamp_ = stamp;
+  ++frames_;
+
+  // Predict: constant velocity, the acceleration left out as white noise per axis.
+  Eigen::Matrix4d transition = Eigen::Matrix4d::Identity();
+  transition(0, 2) = transition(1, 3) = dt;
+  const double q = config_.filter.acceleration_std * config_.filter.acceleration_std;
+  Eigen::Matrix4d noise = Eigen::Matrix4d::Zero();
+  for (int axis = 0; axis < 2; ++axis) {
+    noise(axis, axis) = q * std::pow(dt, 4) / 4.0;
+    noise(axis, axis + 2) = noise(axis + 2, axis) = q * std::pow(dt, 3) / 2.0;
+    noise(axis + 2, axis + 2) = q * dt * dt;
+  }
+  for (State& state : states_) {
+    state.x = transition * state.x;
+    state.covariance = transition * state.covariance * transition.transpose() + noise;
+    state.observation.reset();
+  }
+
+  // Associate: the least total centre distance over the pairs both gates let through.
+  std::vector<double> costs(states_.size() * observations.size(),
+                            std::numeric_limits<double>::infinity());
+  const double r = config_.filter.position_std * config_.filter.position_std;
+  for (std::size_t t = 0; t < states_.size(); ++t) {
+    const State& state = states_[t];
+    const OrientedBox predicted = predictedBox(state);
+    const Eigen::Matrix2d innovation_covariance =
+        state.covariance.topLeftCorner<2, 2>() + r * Eigen::Matrix2d::Identity();
+    const double largest_std =
+        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(innovation_covariance,
+                                                                  Eigen::EigenvaluesOnly)
+                      .eigenvalues()
+                      .maxCoeff());
+    const double radius = std::max(config_.gate.max_distance, config_.gate.sigmas * largest_std);
+    const bool overlap_gated = config_.gate.min_overlap > 0.0 && state.hits > 1;
+    for (std::size_t o = 0; o < observations.size(); ++o) {
+      const OrientedBox& box = observations[o].box;
+      const double distance = (box.centre().head<2>() - state.x.head<2>()).norm();
+      if (distance <= radius &&
+          (!overlap_gated || birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
+        costs[t * observations.size() + o] = distance;
+      }
+    }
+  }
+  const std::vector<std::optional<std::size_t>> assigned =
+      assignMinimumCost(costs, states_.size(), observations.size());
+
+  // Correct the matched tracks; count the misses of the others.
+  std::vector<bool> taken(observations.size(), false);
+  for (std::size_t t = 0; t < states_.size(); ++t) {
+    State& state = states_[t];
+    if (!assigned[t]) {
+      ++state.misses;
+      state.streak = 0;
+      continue;
+    }
+    const std::size_t o = *assigned[t];
+    taken[o] = true;
+    const Observation& observation = observations[o];
+    const Eigen::Vector2d innovation = observation.box.centre().head<2>() - state.x.head<2>();
+    const Eigen::Matrix2d innovation_covariance =
+        state.covariance.topLeftCorner<2, 2>() + r * Eigen::Matrix2d::Identity();
+    const Eigen::Matrix<double, 4, 2> gain =
+        state.covariance.leftCols<2>() * innovation_covariance.inverse();
+    state.x += gain * innovation;
+    const Eigen::Matrix<double, 2, 4> observed = Eigen::Matrix<double, 2, 4>::Identity();
+    state.covariance = (Eigen::Matrix4d::Identity() - gain * observed) * state.covariance;
+    state.yaw += config_.filter.yaw_gain * axisDifference(observation.box.yaw() - state.yaw);
+    state.size += config_.filter.size_gain * (observation.box.size() - state.size);
+    state.z += config_.filter.size_gain * (observation.box.centre().z() - state.z);
+    vote(state, observation);
+    state.observation = o;
+    if (state.id == 0) {
+      state.tentative_observations.push_back(o);
+    }
+    ++state.hits;
+    ++state.streak;
+    state.misses = 0;
+  }
+
+  // Death: a tentative track missed once, a reported one missed death_misses times in a row.
+  std::vector<State> alive;
+  for (State& state : states_) {
+    const bool dead = state.id == 0 ? state.misses > 0 : state.misses >= config_.death_misses;
+    if (!dead) {
+      alive.push_back(std::move(state));
+    }
+  }
+  states_ = std::move(alive);
+
+  // New tentative tracks from the observations no track took.
+  const double v0 = config_.filter.initial_velocity_std * config_.filter.initial_velocity_std;
+  for (std::size_t o = 0; o < observations.size(); ++o) {
+    if (taken[o]) {
+      continue;
+    }
+    const OrientedBox& box = observations[o].box;
+    State state;
+    state.x << box.centre().x(), box.centre().y(), 0.0, 0.0;
+    state.covariance.diagonal() << r, r, v0, v0;
+    state.yaw = box.yaw();
+    state.z = box.centre().z();
+    state.size = box.size();
+    vote(state, observations[o]);
+    state.observation = o;
+    state.tentative_observations = {o};
+    state.hits = state.streak = 1;
+    states_.push_back(std::move(state));
+  }
+
+  // Birth, in the order the tracks were started.
+  std::vector<Track> tracks;
+  for (State& state : states_) {
+    const bool born = state.id == 0 && state.streak >= config_.birth_hits;
+    if (born) {
+      state.id = next_id_++;
+    }
+    if (state.id != 0) {
+      tracks.push_back(reported(state));
+    }
+    if (born) {
+      state.tentative_observations.pop_back();  // this frame's: `observation`
+      tracks.back().earlier_observations = std::move(state.tentative_observations);
+      state.tentative_observations.clear();
+    }
+  }
+  std::sort(tracks.begin(), tracks.end(),
+            [](const Track& a, const Track& b) { return a.id < b.id; });
+  return tracks;
+}
+
+void Tracker::vote(State& state, const Observation& observation) const {
+  if (observation.label == config_.abstain_label) {
+    return;
+  }
+  state.weights[observation.label] +=
+      config_.vote == ClassVote::kScores ? observation.score : 1.0;
+  state.last_vote[observation.label] = frames_;
+}
+
+}  // namespace granular

@@ -1,0 +1,285 @@
+// The tracker on synthetic frames with known answers: ids kept through a crossing and a missed
+// frame, births and deaths counted, the class decided over the frames, the velocity and the
+// heading estimated, and the gates holding.
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "granular_core/tracking/tracker.h"
+
+namespace granular {
+namespace {
+
+constexpr double kPeriod = 0.1;  // s, the simulator's and KITTI's 10 Hz
+
+Observation car(double x, double y, double yaw = 0.0, const std::string& label = "unknown",
+                double score = 1.0) {
+  return Observation{
+      OrientedBox(Eigen::Vector3d(x, y, 0.8),
+                  Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ())),
+                  Eigen::Vector3d(4.5, 1.8, 1.6)),
+      label, score};
+}
+
+// Births after three hits, as the tests count frames (the default is 5: fewer tracks of
+// clutter on the simulator's drives, docs/tracking.md).
+TrackingConfig threeHits() {
+  TrackingConfig config;
+  config.birth_hits = 3;
+  return config;
+}
+
+// The id of the reported track holding observation `index` this frame; 0 when none does.
+std::uint32_t idOf(const std::vector<Track>& tracks, std::size_t index) {
+  for (const Track& track : tracks) {
+    if (track.observation == index) {
+      return track.id;
+    }
+  }
+  return 0;
+}
+
+TEST(TrackerTest, TwoObjectsCrossingPathsKeepTheirIds) {
+  // A heads up and B down a shallow X at 10 m/s, meeting between two frames: at x = 0.5 each
+  // is nearer the other's last place (1.0 m) than its own (1.04 m), so only the motion
+  // keeps them apart. The observations come in a different order every frame.
+  Tracker tracker(threeHits());
+  const double slope = 0.3;
+  std::map<std::string, std::uint32_t> ids;
+  for (int k = 0; k < 20; ++k) {
+    const double x = -9.5 + k;
+    const Observation a = car(x, slope * x, std::atan(slope));
+    const Observation b = car(x, -slope * x, -std::atan(slope));
+    const bool a_first = k % 2 == 0;
+    const std::vector<Track> tracks =
+        tracker.update(k * kPeriod, a_first ? std::vector<Observation>{a, b}
+                                            : std::vector<Observation>{b, a});
+    if (k < 2) {  // tentative for the first birth_hits - 1 frames
+      EXPECT_TRUE(tracks.empty()) << "frame " << k;
+      continue;
+    }
+    ASSERT_EQ(tracks.size(), 2u) << "frame " << k;
+    const std::uint32_t id_a = idOf(tracks, a_first ? 0 : 1);
+    const std::uint32_t id_b = idOf(tracks, a_first ? 1 : 0);
+    if (k == 2) {
+      ids["a"] = id_a;
+      ids["b"] = id_b;
+      EXPECT_NE(id_a, id_b);
+    }
+    EXPECT_EQ(id_a, ids["a"]) << "frame " << k << ", x " << x;
+    EXPECT_EQ(id_b, ids["b"]) << "frame " << k << ", x " << x;
+  }
+  EXPECT_EQ(tracker.born(), 2u);
+}
+
+TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
+  Tracker tracker(threeHits());
+  for (int k = 0; k < 12; ++k) {
+    std::vector<Observation> frame;
+    if (k != 6) {
+      frame.push_back(car(5.0 + 1.2 * k, 3.0));  // 12 m/s along x
+    }
+    const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
+    if (k < 2) {
+      EXPECT_TRUE(tracks.empty());
+      continue;
+    }
+    ASSERT_EQ(tracks.size(), 1u) << "frame " << k;
+    EXPECT_EQ(tracks[0].id, 1u);
+    if (k == 6) {  // coasting: reported without an observation, where it would be
+      EXPECT_FALSE(tracks[0].observation);
+      EXPECT_EQ(tracks[0].misses, 1u);
+      EXPECT_NEAR(tracks[0].box.centre().x(), 5.0 + 1.2 * 6, 0.3);
+    } else {
+      EXPECT_EQ(tracks[0].observation, 0u);
+    }
+  }
+  EXPECT_EQ(tracker.born(), 1u);
+}
+
+TEST(TrackerTest, ATrackWhoseFramesSaySedanSedanSuvSedanIsASedan) {
+  for (const ClassVote vote : {ClassVote::kScores, ClassVote::kVotes}) {
+    TrackingConfig config = threeHits();
+    config.vote = vote;
+    config.birth_hits = 1;
+    Tracker tracker(config);
+    const std::vector<std::string> labels = {"Sedan", "Sedan", "SUV", "Sedan"};
+    std::vector<Track> tracks;
+    for (std::size_t k = 0; k < labels.size(); ++k) {
+      tracks = tracker.update(k * kPeriod, {car(10.0, 0.0, 0.0, labels[k], 0.8)});
+      ASSERT_EQ(tracks.size(), 1u);
+    }
+    EXPECT_EQ(tracks[0].label, "Sedan") << config::enumName(vote);
+    EXPECT_DOUBLE_EQ(tracks[0].share, 0.75) << config::enumName(vote);
+  }
+}
+
+TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
+  const std::vector<Observation> frames = {car(10, 0, 0, "Sedan", 0.3), car(10, 0, 0, "unknown"),
+                                           car(10, 0, 0, "Sedan", 0.3), car(10, 0, 0, "SUV", 0.9),
+                                           car(10, 0, 0, "unknown")};
+  const auto decide = [&](ClassVote vote) {
+    TrackingConfig config = threeHits();
+    config.vote = vote;
+    config.birth_hits = 1;
+    Tracker tracker(config);
+    std::vector<Track> tracks;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      tracks = tracker.update(k * kPeriod, {frames[k]});
+    }
+    return tracks.at(0);
+  };
+  const Track by_scores = decide(ClassVote::kScores);
+  EXPECT_EQ(by_scores.label, "SUV");  // 0.9 against 0.6
+  EXPECT_DOUBLE_EQ(by_scores.share, 0.6);
+  const Track by_votes = decide(ClassVote::kVotes);
+  EXPECT_EQ(by_votes.label, "Sedan");  // 2 against 1; the unknowns do not count
+  EXPECT_DOUBLE_EQ(by_votes.share, 2.0 / 3.0);
+
+  TrackingConfig config = threeHits();
+  config.birth_hits = 1;
+  Tracker tracker(config);
+  const Track unnamed = tracker.update(0.0, {car(10, 0)}).at(0);
+  EXPECT_EQ(unnamed.label, "unknown");
+  EXPECT_EQ(unnamed.share, 0.0);
+  // A tie goes to the latest frame's label.
+  EXPECT_EQ(tracker.update(0.1, {car(10, 0, 0, "Jeep")}).at(0).label, "Jeep");
+  EXPECT_EQ(tracker.update(0.2, {car(10, 0, 0, "SUV")}).at(0).label, "SUV");
+  EXPECT_EQ(tracker.update(0.3, {car(10, 0, 0, "Jeep")}).at(0).label, "Jeep");
+}
+
+TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
+  // Object A is seen in frames 0-9, B in frames 4-5 only (never born), C in 3-14, and frame 7
+  // holds clutter far from everything; birth_hits 3, death_misses 3 (the default).
+  Tracker tracker(threeHits());
+  std::vector<std::size_t> reported;
+  for (int k = 0; k < 20; ++k) {
+    std::vector<Observation> frame;
+    if (k <= 9) frame.push_back(car(10.0 + k, 0.0));
+    if (k == 4 || k == 5) frame.push_back(car(-20.0, 8.0));
+    if (k >= 3 && k <= 14) frame.push_back(car(0.0, -15.0 + 0.5 * k, M_PI / 2));
+    if (k == 7) frame.push_back(car(30.0, 30.0));
+    reported.push_back(tracker.update(k * kPeriod, frame).size());
+  }
+  // A from frame 2 to frame 11 (its third miss drops it in 12), C from 5 to 16.
+  const std::vector<std::size_t> expected = {0, 0, 1, 1, 1, 2, 2, 2, 2, 2,
+                                             2, 2, 1, 1, 1, 1, 1, 0, 0, 0};
+  EXPECT_EQ(reported, expected);
+  EXPECT_EQ(tracker.born(), 2u);
+}
+
+TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
+  // A from frame 0, B from frame 1 listed first: each is born in its third frame, naming
+  // where it was in the two before; later frames name none.
+  Tracker tracker(threeHits());
+  std::vector<std::vector<std::size_t>> earlier_a, earlier_b;
+  for (int k = 0; k < 5; ++k) {
+    std::vector<Observation> frame;
+    if (k >= 1) frame.push_back(car(-10.0, 5.0));
+    frame.push_back(car(10.0, 0.0));
+    for (const Track& track : tracker.update(k * kPeriod, frame)) {
+      (track.observation == frame.size() - 1 ? earlier_a : earlier_b)
+          .push_back(track.earlier_observations);
+    }
+  }
+  using Indices = std::vector<std::size_t>;
+  EXPECT_EQ(earlier_a, (std::vector<Indices>{{0, 1}, {}, {}}));  // born in frame 2
+  EXPECT_EQ(earlier_b, (std::vector<Indices>{{0, 0}, {}}));      // born in frame 3
+}
+
+TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {
+  Tracker tracker(threeHits());
+  std::vector<Track> tracks;
+  for (int k = 0; k < 30; ++k) {
+    // Moving at (3, -4) m/s; the cuboids say yaw + pi (their front is not known).
+    const double heading = std::atan2(-4.0, 3.0);
+    tracks = tracker.update(k * kPeriod, {car(20.0 + 0.3 * k, 5.0 - 0.4 * k, heading + M_PI)});
+  }
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_NEAR(tracks[0].velocity.x(), 3.0, 0.05);
+  EXPECT_NEAR(tracks[0].velocity.y(), -4.0, 0.05);
+  EXPECT_NEAR(tracks[0].box.yaw(), std::atan2(-4.0, 3.0), 1e-6);
+  EXPECT_NEAR(tracks[0].box.centre().x(), 20.0 + 0.3 * 29, 0.01);
+}
+
+TEST(TrackerTest, YawIsSmoothedModuloHalfATurn) {
+  // A parked car whose cuboid's front flips every frame: the yaw stays 0.05 rad modulo pi
+  // (an average of 0.05 and pi + 0.05 would turn the car across its lane).
+  Tracker tracker(threeHits());
+  std::vector<Track> tracks;
+  for (int k = 0; k < 10; ++k) {
+    tracks = tracker.update(k * kPeriod, {car(8.0, 2.0, 0.05 + (k % 2) * M_PI)});
+  }
+  ASSERT_EQ(tracks.size(), 1u);
+  const double yaw = tracks[0].box.yaw();
+  EXPECT_NEAR(yaw - M_PI * std::round(yaw / M_PI), 0.05, 1e-9);
+  EXPECT_NEAR(tracks[0].box.size().x(), 4.5, 1e-9);
+}
+
+TEST(TrackerTest, ANeighbourInTheNextLaneDoesNotTakeOverATrack) {
+  // A parks at y = 0 for five frames and is gone; B, parked beside it 1.95 m away (within
+  // the 2 m distance gate, footprints apart), is seen from then on: a new track, not A's.
+  const auto run = [](double min_overlap) {
+    TrackingConfig config = threeHits();
+    config.gate.min_overlap = min_overlap;
+    Tracker tracker(config);
+    std::vector<std::uint32_t> ids;
+    for (int k = 0; k < 12; ++k) {
+      const std::vector<Track> tracks =
+          tracker.update(k * kPeriod, {k < 5 ? car(10.0, 0.0) : car(10.0, 1.95)});
+      ids.push_back(idOf(tracks, 0));
+    }
+    return ids;
+  };
+  EXPECT_EQ(run(0.1), (std::vector<std::uint32_t>{0, 0, 1, 1, 1, 0, 0, 2, 2, 2, 2, 2}));
+  // With the distance alone, B would continue A's track.
+  EXPECT_EQ(run(0.0), (std::vector<std::uint32_t>{0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
+}
+
+TEST(TrackerTest, AFastCarIsFollowedFromItsSecondFrameOn) {
+  // Oncoming at 22 m/s relative to the sensor, 5 frames a second: 4.4 m a frame, beyond the
+  // 2 m gate, but a track seen once has no velocity yet and its gate is 3 standard deviations
+  // of the unknown velocity's reach (10 m/s x 0.2 s, about 6 m).
+  Tracker tracker(threeHits());
+  std::vector<Track> tracks;
+  for (int k = 0; k < 8; ++k) {
+    tracks = tracker.update(k * 0.2, {car(40.0 - 4.4 * k, 3.5, M_PI)});
+  }
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_EQ(tracks[0].id, 1u);
+  EXPECT_EQ(tracks[0].observation, 0u);
+  EXPECT_EQ(tracks[0].hits, 8u);
+  EXPECT_NEAR(tracks[0].velocity.x(), -22.0, 0.5);
+  EXPECT_EQ(tracker.born(), 1u);
+}
+
+TEST(TrackerTest, AJumpBeyondTheDistanceGateStartsANewTrack) {
+  Tracker tracker(threeHits());
+  std::vector<Track> tracks;
+  for (int k = 0; k < 4; ++k) {
+    tracks = tracker.update(k * kPeriod, {car(10.0, 0.0)});
+  }
+  tracks = tracker.update(0.4, {car(10.0, 2.5)});  // 2.5 m off a parked car's place
+  ASSERT_EQ(tracks.size(), 1u);
+  EXPECT_FALSE(tracks[0].observation);
+  EXPECT_EQ(tracks[0].misses, 1u);
+}
+
+TEST(TrackerTest, RefusesStampsThatDoNotMoveOnAndBadConfigs) {
+  Tracker tracker(threeHits());
+  tracker.update(1.0, {});
+  EXPECT_THROW(tracker.update(1.0, {}), std::invalid_argument);
+  EXPECT_THROW(tracker.update(0.5, {}), std::invalid_argument);
+  EXPECT_THROW(tracker.update(std::nan(""), {}), std::invalid_argument);
+  TrackingConfig config;
+  config.birth_hits = 0;
+  EXPECT_THROW(Tracker{config}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace granular

@@ -33,6 +33,9 @@ struct SegmentCloudParameters {
   granular::CuboidConfig cuboids;
   granular::SegmentationStageConfig segmentation;
   granular::SensorConfig sensor;
+  /// Measure the sensor's height and azimuth step from the first cloud (online.launch
+  /// sensor:=auto) instead of taking ~sensor's.
+  bool sensor_auto = false;
   double report_interval = 10.0;  ///< s between latency lines in the log
 
   template <class Self, class Visit>
@@ -41,6 +44,7 @@ struct SegmentCloudParameters {
     visit("cuboids", self.cuboids);
     granular::SegmentationStageConfig::fields(self.segmentation, visit);
     visit("sensor", self.sensor);
+    visit("sensor_auto", self.sensor_auto);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
 };
@@ -67,8 +71,11 @@ class SegmentCloud {
       parameters.segmentation.objects.azimuth_step_deg = parameters.sensor.azimuth_step_deg;
     }
     config_ = parameters.segmentation;
+    ground_config_ = parameters.ground;
     evidence_config_ = parameters.cuboids.evidence;
-    segmenter_ = std::make_unique<granular::FrameSegmenter>(parameters.ground, config_);
+    if (!parameters.sensor_auto) {
+      segmenter_ = std::make_unique<granular::FrameSegmenter>(ground_config_, config_);
+    }
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
     free_space_config_ = parameters.cuboids.free_space;
     ground_plane_ = parameters.ground.plane;
@@ -96,6 +103,9 @@ class SegmentCloud {
       cloud = granular_ros::toCloud(*message);
     } catch (const std::exception& error) {
       ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: skipping a cloud: " << error.what());
+      return;
+    }
+    if (!segmenter_ && !measureSensor(cloud)) {
       return;
     }
     lgsvl_msgs::Detection3DArray output;
@@ -134,7 +144,33 @@ class SegmentCloud {
                                                            start).count());
   }
 
+  // sensor:=auto: the sensor measured from `cloud`, the segmenter built with it; a cloud that
+  // cannot tell stops the node (it is required), saying why and what to pass instead.
+  bool measureSensor(const granular::Cloud& cloud) {
+    const granular::SensorEstimate estimate = granular::estimateSensor({cloud}, ground_config_);
+    if (!estimate.mount_height || !estimate.azimuth_step_deg) {
+      std::string problems;
+      for (const std::string& problem : estimate.problems) {
+        problems += (problems.empty() ? "" : "; ") + problem;
+      }
+      ROS_FATAL_STREAM("segment_cloud: sensor:=auto cannot tell from the first cloud: "
+                       << problems << "; name the sensor (sensor:=NAME) or give sensor_height:= "
+                                      "and azimuth_step:=");
+      ros::shutdown();
+      return false;
+    }
+    ground_config_.plane.sensor_height = *estimate.mount_height;
+    config_.objects.azimuth_step_deg = *estimate.azimuth_step_deg;
+    ground_plane_ = ground_config_.plane;
+    ROS_INFO("segment_cloud: sensor auto: mount height %.2f m (the road plane under the first "
+             "cloud), azimuth step %.3f deg (returns along rings)",
+             *estimate.mount_height, *estimate.azimuth_step_deg);
+    segmenter_ = std::make_unique<granular::FrameSegmenter>(ground_config_, config_);
+    return true;
+  }
+
   granular::SegmentationStageConfig config_;
+  granular::GroundConfig ground_config_;
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
   std::unique_ptr<granular::CuboidFitter> fitter_;
   granular::FreeSpaceConfig free_space_config_;

@@ -48,6 +48,7 @@ class FleetConfig:
     boxes: str = "detections"
     class_cap: int = DEFAULT_CLASS_CAP
     config_dir: str = None
+    sensor: str = None  # config/sensors/ name, a sensor file or auto
     sensor_height: float = None
     azimuth_step: float = None
     prior_classes: str = None
@@ -90,7 +91,8 @@ class FleetConfig:
         return dict(self.task_options(), bag=bag, folder=folder, thresholds=thresholds,
                     classes_at=self.models_from,
                     boxes="detections" if learns_only else self.boxes,
-                    sensor_height=self.sensor_height, azimuth_step=self.azimuth_step,
+                    sensor=self.sensor, sensor_height=self.sensor_height,
+                    azimuth_step=self.azimuth_step,
                     prior_classes=self.prior_classes, keep_frames=self.keep_frames)
 
     def class_spec(self, label, sources):
@@ -171,7 +173,8 @@ class FleetConfig:
         spec = self.extraction_spec("", "", learns_only)
         return digest({"bag": identity, "learns_only": learns_only,
                        "thresholds": spec["thresholds"], "boxes": spec["boxes"],
-                       "sensor": [self.sensor_height, self.azimuth_step, self.prior_classes]
+                       "sensor": [self.sensor, self.sensor_height, self.azimuth_step,
+                                  self.prior_classes]
                        if spec["boxes"] == "segment" else None,
                        "config": self._configuration()})
 

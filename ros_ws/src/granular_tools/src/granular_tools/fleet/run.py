@@ -20,7 +20,8 @@ import time
 
 from ..output import (OutputError, OutputFolder, claimed_folder, resolve, run_main,
                       write_atomically)
-from ..runners.stages import StageError, bad_argument, positive_number
+from ..runners.stages import (StageError, add_sensor_options, bad_argument, positive_number,
+                              sensor_option)
 from . import plan, report, tasks
 from .identity import BagIdentityError, bag_identity
 
@@ -409,6 +410,7 @@ def checked_config(args):
         models_from=models_from, model_method=args.model_method, methods=methods,
         preset=args.preset, supervised=supervised, boxes=args.boxes, class_cap=cap,
         config_dir=config_dir,
+        sensor=sensor_option(args.sensor, args.relative_to),
         sensor_height=positive_number(args.sensor_height, "--sensor-height"),
         azimuth_step=positive_number(args.azimuth_step, "--azimuth-step"),
         prior_classes=args.prior_classes or None, keep_frames=args.keep_frames)
@@ -466,14 +468,7 @@ def main(argv=None):
                         help="detections (the bags' boxes) or segment (the box-free path: "
                              "cuboids fitted to segments; objects without truth, so no "
                              "accuracy; needs --train) (default: %(default)s)")
-    parser.add_argument("--sensor-height", default="2.3", metavar="M",
-                        help="--boxes segment: the LiDAR above the road (default %(default)s, "
-                             "the simulator's)")
-    parser.add_argument("--azimuth-step", default="1.0", metavar="DEG",
-                        help="--boxes segment: degrees between returns (default %(default)s)")
-    parser.add_argument("--prior-classes", default="Sedan,SUV,Hatchback,Jeep,BoxTruck,"
-                                                   "SchoolBus", metavar="LIST",
-                        help="--boxes segment: the cuboids' size priors (default %(default)s)")
+    add_sensor_options(parser)  # --boxes segment: the LiDAR and the cuboids' size priors
     parser.add_argument("--config-dir", metavar="FOLDER",
                         help="folder of the tools' YAML files (default: their built-in "
                              "defaults)")

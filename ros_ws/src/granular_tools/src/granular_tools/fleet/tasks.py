@@ -127,6 +127,7 @@ def extract_bag(spec):
                         *_option("--config", _config(spec, "cuboids.yaml")),
                         *_option("--ground-config", _config(spec, "ground.yaml")),
                         *_option("--segmentation-config", _config(spec, "segmentation.yaml")),
+                        *_option("--sensor", spec.get("sensor")),
                         *_option("--sensor-height", spec.get("sensor_height")),
                         *_option("--azimuth-step", spec.get("azimuth_step")),
                         *_option("--prior-classes", spec.get("prior_classes"))],

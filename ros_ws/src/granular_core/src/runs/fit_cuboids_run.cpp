@@ -295,12 +295,18 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     // The objects over the threads, each timed alone.
     std::vector<std::optional<FittedCuboid>> fitted(inputs.size());
     std::vector<double> milliseconds(inputs.size(), 0.0);
+    // The vehicle decision on each fitted cuboid over the same threads (measuring reads the
+    // frame's scan only); not timed as the fit.
+    std::vector<VehicleVerdict> verdicts(inputs.size(), VehicleVerdict::kVehicle);
     parallelFor(inputs.size(), options.threads, 1, [&](std::size_t i) {
       const auto begin = std::chrono::steady_clock::now();
       fitted[i] = fitter->fit(inputs[i].view);
       milliseconds[i] =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
               .count();
+      if (evidence && fitted[i]) {
+        verdicts[i] = evidence->judge(evidence->measure(inputs[i].view.points, fitted[i]->box));
+      }
     });
 
     PendingFrame pending_frame{stamp, header, {}, {}};
@@ -311,13 +317,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       if (!fitted[i]) {
         continue;
       }
-      if (evidence) {
-        const VehicleVerdict verdict =
-            evidence->judge(evidence->measure(inputs[i].view.points, fitted[i]->box));
-        if (verdict != VehicleVerdict::kVehicle) {
-          ++summary.not_vehicles[verdictName(verdict)];
-          continue;
-        }
+      if (verdicts[i] != VehicleVerdict::kVehicle) {
+        ++summary.not_vehicles[verdictName(verdicts[i])];
+        continue;
       }
       Detection cuboid;
       cuboid.id = inputs[i].id;

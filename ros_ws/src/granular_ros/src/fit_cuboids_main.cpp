@@ -7,6 +7,7 @@
 #include <string>
 
 #include <granular_core/dataset/models_folder.h>
+#include <granular_core/extraction/extraction_config.h>
 #include <granular_core/runs/fit_cuboids_run.h>
 #include <granular_core/tracking/tracking_config.h>
 #include <pcl/console/print.h>
@@ -14,6 +15,7 @@
 #include "granular_ros/box_free_options.h"
 #include "granular_ros/command_line.h"
 #include "granular_ros/config_file.h"
+#include "granular_ros/presets.h"
 #include "granular_ros/tool.h"
 
 namespace {
@@ -56,6 +58,20 @@ std::string usage() {
          "                         (where the method gives none: geometric, rectangle),\n"
          "                         unknown where its answer was a Background not sure\n"
          "                         enough to drop\n"
+         "  --name-with METHOD     name each cuboid with a classifier (icp, icp_nl, ndt, knn,\n"
+         "                         svm, svm_esf or svm_fitness): the frame's points in the\n"
+         "                         cuboid, in its object frame as extract_objects crops a\n"
+         "                         given box, classified as a given box's object is; its\n"
+         "                         label and score replace the fitter's and --classifier's\n"
+         "                         (not where the object has too few points for the method)\n"
+         "  --name-models PATH     --name-with: the class models folder (icp, icp_nl, ndt) or\n"
+         "                         the train_classifier file (the others)\n"
+         "  --class-models FOLDER  --name-with svm_fitness: the class models it learnt from\n"
+         "  --preset NAME          --name-with: registration parameters of\n"
+         "                         --registration-config (default: tuned)\n"
+         "  --registration-config FILE  YAML file like config/classification.yaml\n"
+         "  --extraction-config FILE    YAML file like config/extraction.yaml: its padding\n"
+         "                         grows the cuboids --name-with crops (default: none)\n"
          "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
          "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
          "                         BoxTruck,SchoolBus for the simulator\n"
@@ -99,6 +115,12 @@ struct Options {
   std::optional<std::string> classifier_file;
   granular_ros::BoxFreeOptions box_free;
   std::optional<std::string> prior_classes;
+  std::optional<std::string> name_with;
+  std::optional<std::string> name_models;
+  std::optional<std::string> class_models;
+  std::string preset = granular_ros::kDefaultPreset;
+  std::optional<std::string> registration_config;
+  std::optional<std::string> extraction_config;
   bool track = false;
   std::optional<std::string> tracking_config_file;
   int threads = 0;
@@ -122,6 +144,12 @@ int main(int argc, char** argv) {
       .value("--boxes", options.boxes)
       .value("--classifier", options.classifier_file)
       .value("--prior-classes", options.prior_classes)
+      .value("--name-with", options.name_with)
+      .value("--name-models", options.name_models)
+      .value("--class-models", options.class_models)
+      .value("--preset", options.preset)
+      .value("--registration-config", options.registration_config)
+      .value("--extraction-config", options.extraction_config)
       .flag("--track", options.track)
       .value("--tracking-config", options.tracking_config_file)
       .threads("--threads", options.threads);
@@ -151,16 +179,45 @@ int main(int argc, char** argv) {
     if (options.classifier_file && run.boxes != granular::CuboidInputs::kSegments) {
       throw std::invalid_argument("--classifier decides on segments: it needs --boxes segment");
     }
+    if (options.name_with && !options.name_models) {
+      throw std::invalid_argument("--name-with needs --name-models");
+    }
+    if (!options.name_with && (options.name_models || options.class_models)) {
+      throw std::invalid_argument("--name-models and --class-models go with --name-with");
+    }
+    if (options.extraction_config) {
+      run.naming_padding =
+          granular_ros::buildConfig<granular::ExtractionConfig>(options.extraction_config)
+              .padding;
+    }
     if (config.method == granular::CuboidMethod::kModel && !options.models) {
       throw std::invalid_argument("the model method needs --models (or --method geometric)");
     }
   };
   std::optional<granular::SupervisedClassifier> classifier;
+  std::optional<granular::ObjectClassifier> namer;
   return tool.run(argc, argv, configure, [&] {
     if (options.classifier_file) {
       classifier.emplace(granular_ros::loadBackgroundClassifier(
           *options.classifier_file, run.segmentation.background.label));
       run.classifier = &*classifier;
+    }
+    if (options.name_with) {
+      std::optional<std::filesystem::path> presets_file;
+      if (options.registration_config) {
+        presets_file = *options.registration_config;
+      }
+      std::optional<std::filesystem::path> class_models;
+      if (options.class_models) {
+        class_models = *options.class_models;
+      }
+      namer.emplace(granular_ros::makeObjectClassifier(*options.name_with, *options.name_models,
+                                                       class_models, presets_file, options.preset,
+                                                       options.threads));
+      for (const std::string& warning : namer->warnings()) {
+        std::cerr << "fit_cuboids: warning: " << warning << '\n';
+      }
+      run.namer = &*namer;
     }
     if (options.models && config.method == granular::CuboidMethod::kModel) {
       run.models = granular::readClassModels(*options.models);

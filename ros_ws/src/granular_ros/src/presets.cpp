@@ -21,4 +21,33 @@ granular::RegistrationClassifierConfig resolvePreset(
   return preset;
 }
 
+granular::ObjectClassifier makeObjectClassifier(
+    const std::string& method, const std::filesystem::path& models,
+    const std::optional<std::filesystem::path>& class_models,
+    const std::optional<std::filesystem::path>& presets_file, const std::string& preset,
+    int threads) {
+  if (const auto registration = granular::registrationMethodFromName(method)) {
+    return granular::ObjectClassifier::registration(
+        *registration, resolvePreset(presets_file, preset), models, threads);
+  }
+  if (method == "svm_fitness") {
+    if (!class_models) {
+      throw std::invalid_argument("svm_fitness needs the class models folder it learnt from");
+    }
+    return granular::ObjectClassifier::fitness(
+        models, *class_models,
+        [&](const std::string& name) { return resolvePreset(presets_file, name); }, threads);
+  }
+  if (granular::supervisedMethodFromName(method)) {
+    granular::ObjectClassifier classifier = granular::ObjectClassifier::supervised(models, threads);
+    if (classifier.method() != method) {
+      throw std::invalid_argument(models.string() + " holds a " + classifier.method() +
+                                  " classifier, not " + method);
+    }
+    return classifier;
+  }
+  throw std::invalid_argument(
+      "expected icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness, got '" + method + "'");
+}
+
 }  // namespace granular_ros

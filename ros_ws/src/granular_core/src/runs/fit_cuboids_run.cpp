@@ -101,6 +101,31 @@ void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame
   }
 }
 
+// The namer's class for each cuboid of a frame, and for its observation: the frame's points in
+// the cuboid, in its object frame, cropped as extractObjects crops a given box, so that box-free
+// objects reach the classifier as given ones do. Returns how many it could not classify.
+std::size_t nameCuboids(const ObjectClassifier& namer, const FrameCropper& frame,
+                        const Eigen::Vector3d& padding, std::vector<Detection>& cuboids,
+                        std::vector<Observation>& observations) {
+  std::vector<Cloud> objects;
+  objects.reserve(cuboids.size());
+  for (const Detection& cuboid : cuboids) {
+    objects.push_back(frame.crop(OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size),
+                                 padding));
+  }
+  const std::vector<ObjectPrediction> predictions = namer.classify(objects);
+  std::size_t not_named = 0;
+  for (std::size_t i = 0; i < cuboids.size(); ++i) {
+    if (!predictions[i].classified) {
+      ++not_named;
+      continue;
+    }
+    cuboids[i].label = observations[i].label = predictions[i].label;
+    cuboids[i].score = observations[i].score = predictions[i].score;
+  }
+  return not_named;
+}
+
 }  // namespace
 
 void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
@@ -119,6 +144,10 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   if (tracked) {
     out << "  tracks born: " << tracks << "; cuboids of tracks never born, not written: "
         << tentative << '\n';
+  }
+  if (!namer.empty()) {
+    out << "  named by " << namer << "; too few points to name (the fitter's label kept): "
+        << not_named << '\n';
   }
   if (called_background > 0) {
     out << "  segments called Background (no cuboid): " << called_background << '\n';
@@ -154,6 +183,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   FitCuboidsSummary summary;
   summary.method = config::enumName(config.method);
   summary.boxes = options.boxes;
+  if (options.namer != nullptr) {
+    summary.namer = options.namer->method();
+  }
   OutputFolder output(out, "fit_cuboids", options.output, {frames});
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
@@ -213,9 +245,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     // Segments without a classifier: the zero-shot vehicle decision on each fitted cuboid.
     std::optional<VehicleEvidence> evidence;
     std::size_t split_ids = 0;
-    // Given boxes, or the Background decision on segments, crop the frame box by box.
+    // Given boxes, the Background decision on segments, or the namer crop the frame box by box.
     std::optional<FrameCropper> cropper;
-    if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr) {
+    if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr ||
+        options.namer != nullptr) {
       cropper.emplace(cloud);
     }
     if (options.boxes == CuboidInputs::kSegments) {
@@ -335,6 +368,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.size = fitted[i]->box.size();
       pending_frame.fitted.push_back(cuboid);
       observations.push_back(Observation{fitted[i]->box, cuboid.label, cuboid.score});
+    }
+    if (options.namer != nullptr) {
+      summary.not_named += nameCuboids(*options.namer, *cropper, options.naming_padding,
+                                       pending_frame.fitted, observations);
     }
     pending.push_back(std::move(pending_frame));
     if (tracker) {

@@ -17,13 +17,13 @@ import os
 import time
 
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
+from .pipeline import NAME_METHODS
 from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
                      bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
                      frames_stage, positive_number, run_tool, sensor_option)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
-NAME_METHODS = ("icp", "icp_nl", "ndt", "knn", "svm", "svm_esf", "svm_fitness")
 
 
 @dataclasses.dataclass

@@ -2,8 +2,9 @@
 it matches, as a frames folder whose boxes are those cuboids (docs/tracking.md).
 
 extract_objects then crops them as it crops given boxes, so that the classifiers learn from
-objects that look like the ones they name without boxes: the cuboid's own extent and heading
-(the fitter's, which may face the other way), not the true box's. Per frame, the cuboids are
+objects that look like the ones they name without boxes: the cuboid's own extent, not the true
+box's, and its heading turned to face away from the sensor, as fit_cuboids --name-with turns it
+(the fit knows a heading modulo 180 degrees only). Per frame, the cuboids are
 matched one-to-one to the true boxes as evaluate_cuboids matches them (Hungarian on the x-y
 centre distance), within --gate metres; a matched cuboid takes its true box's label and id (the
 vehicle it shows, as index.csv's detection_id), an unmatched one is left out.
@@ -11,11 +12,12 @@ vehicle it shows, as index.csv's detection_id), an unmatched one is left out.
 import argparse
 import collections
 import json
+import math
 import os
 
 from ..frames_folder import (CLOUDS_FOLDER, DETECTIONS_FOLDER, DetectionsError, frame_files,
                              load_detections, load_document, parse_detection)
-from ..geometry import yaw_difference_deg
+from ..geometry import quaternion_multiply, rotate, yaw_difference_deg
 from ..output import OutputFolder, check_output_apart, run_main, write_file
 from .cuboid_matching import match
 
@@ -23,9 +25,22 @@ TOOL = "label_box_free"
 DEFAULT_GATE_M = 1.0
 
 
+HALF_TURN = (0.0, 0.0, 1.0, 0.0)  # (x, y, z, w): 180 degrees about z
+
+
+def facing_away(cuboid):
+    """The cuboid's quaternion with its x axis turned to point away from the sensor (the rule
+    of fit_cuboids' facingAway)."""
+    axis = rotate(cuboid.box.quaternion, (1.0, 0.0, 0.0))
+    if axis[0] * cuboid.box.centre[0] + axis[1] * cuboid.box.centre[1] >= 0.0:
+        return cuboid.box.quaternion
+    return quaternion_multiply(cuboid.box.quaternion, HALF_TURN)
+
+
 def label_frame(truths, document, gate):
-    """The cuboid entries of `document` that match a truth within `gate` m, relabelled; and how
-    many of them face the other way from their truth (yaw off by more than 90 degrees)."""
+    """The cuboid entries of `document` that match a truth within `gate` m, relabelled and
+    turned to face away from the sensor; and how many of them then face the other way from
+    their truth (yaw off by more than 90 degrees)."""
     cuboids, entries = [], []
     for k, entry in enumerate(document["detections"]):
         cuboid, _ = parse_detection(entry, f"detections[{k}]")
@@ -34,9 +49,13 @@ def label_frame(truths, document, gate):
             entries.append(entry)
     labelled, reversed_heading = [], 0
     for t, c in sorted(match(truths, cuboids, gate), key=lambda pair: pair[1]):
-        entry = dict(entries[c], label=truths[t].label, id=truths[t].id)
-        labelled.append(entry)
-        if yaw_difference_deg(cuboids[c].box.yaw, truths[t].box.yaw, period=360.0) > 90.0:
+        quaternion = facing_away(cuboids[c])
+        bbox = entries[c]["bbox"]
+        pose = dict(bbox["position"], orientation=dict(zip("xyzw", quaternion)))
+        labelled.append(dict(entries[c], label=truths[t].label, id=truths[t].id,
+                             bbox=dict(bbox, position=pose)))
+        if yaw_difference_deg(math.atan2(*rotate(quaternion, (1.0, 0.0, 0.0))[1::-1]),
+                              truths[t].box.yaw, period=360.0) > 90.0:
             reversed_heading += 1
     return labelled, reversed_heading
 

@@ -61,7 +61,8 @@ std::string usage() {
          "  --name-with METHOD     name each cuboid with a classifier (icp, icp_nl, ndt, knn,\n"
          "                         svm, svm_esf or svm_fitness): the frame's points in the\n"
          "                         cuboid, in its object frame as extract_objects crops a\n"
-         "                         given box, classified as a given box's object is; its\n"
+         "                         given box (turned to face away from the sensor, as\n"
+         "                         label_box_free turns training objects), classified; its\n"
          "                         label and score replace the fitter's and --classifier's\n"
          "                         (not where the object has too few points for the method)\n"
          "  --name-models PATH     --name-with: the class models folder (icp, icp_nl, ndt) or\n"
@@ -184,6 +185,17 @@ int main(int argc, char** argv) {
     }
     if (!options.name_with && (options.name_models || options.class_models)) {
       throw std::invalid_argument("--name-models and --class-models go with --name-with");
+    }
+    if (options.name_with && !granular::registrationMethodFromName(*options.name_with) &&
+        !granular::supervisedMethodFromName(*options.name_with) &&
+        *options.name_with != "svm_fitness") {
+      throw std::invalid_argument(
+          "--name-with: expected icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness, got '" +
+          *options.name_with + "'");
+    }
+    if (options.name_with && *options.name_with == "svm_fitness" && !options.class_models) {
+      throw std::invalid_argument(
+          "--name-with svm_fitness needs --class-models, the models folder it learnt from");
     }
     if (options.extraction_config) {
       run.naming_padding =

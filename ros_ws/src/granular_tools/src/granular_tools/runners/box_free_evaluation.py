@@ -123,8 +123,7 @@ def evaluate_box_free(train_bags, test_bag, out, config_dir, overwrite):
         classifier, models = train(train_bags[0], out, config_dir, overwrite)
         test = dataclasses.replace(
             _run(config_dir, overwrite), bag=test_bag, out=os.path.join(out, "test"),
-            track=True, name_with="svm_fitness", name_models=classifier, class_models=models,
-            max_range=MAX_RANGE_M, min_points=MIN_POINTS, labels=VEHICLES)
+            track=True, name_with="svm_fitness", name_models=classifier, class_models=models)
         os.makedirs(test.out, exist_ok=True)
         frames(test_bag, test.folder("frames"), config_dir, overwrite)
         cuboids.cuboids_stage(test)

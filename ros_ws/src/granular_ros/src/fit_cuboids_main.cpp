@@ -57,7 +57,9 @@ std::string usage() {
          "                         others' cuboids take its class and score as label\n"
          "                         (where the method gives none: geometric, rectangle),\n"
          "                         unknown where its answer was a Background not sure\n"
-         "                         enough to drop\n"
+         "                         enough to drop; or a vehicle decision that\n"
+         "                         train_vehicle_decision tuned on labelled frames (the\n"
+         "                         evidence: keys of --config, laid over them)\n"
          "  --name-with METHOD     name each cuboid with a classifier (icp, icp_nl, ndt, knn,\n"
          "                         svm, svm_esf or svm_fitness): the frame's points in the\n"
          "                         cuboid, in its object frame as extract_objects crops a\n"
@@ -158,6 +160,9 @@ int main(int argc, char** argv) {
   const auto configure = [&] {
     config = granular_ros::buildConfig<granular::CuboidConfig>(
         options.config_file, [&](granular::CuboidConfig& cuboids) {
+          if (options.classifier_file && granular_ros::isVehicleDecision(*options.classifier_file)) {
+            granular_ros::loadConfigFile(*options.classifier_file, cuboids);
+          }
           if (options.method) {
             cuboids.method =
                 granular_ros::parseChoice<granular::CuboidMethod>("--method", *options.method);
@@ -209,7 +214,7 @@ int main(int argc, char** argv) {
   std::optional<granular::SupervisedClassifier> classifier;
   std::optional<granular::ObjectClassifier> namer;
   return tool.run(argc, argv, configure, [&] {
-    if (options.classifier_file) {
+    if (options.classifier_file && !granular_ros::isVehicleDecision(*options.classifier_file)) {
       classifier.emplace(granular_ros::loadBackgroundClassifier(
           *options.classifier_file, run.segmentation.background.label));
       run.classifier = &*classifier;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <granular_core/dataset/pcd_io.h>
+#include <ros/package.h>
 #include <granular_core/text.h>
 
 #include "granular_ros/config_file.h"
@@ -25,22 +26,40 @@ void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_o
       });
 }
 
+std::filesystem::path sensorsDirectory() {
+  // This package's folder: the source (its config/sensors links to the repository's) in a
+  // devel space, share/granular_ros in an install space.
+  const std::string package = ros::package::getPath("granular_ros");
+  if (package.empty()) {
+    throw std::invalid_argument(
+        "--sensor NAME: package granular_ros not found on ROS_PACKAGE_PATH (source the "
+        "workspace's setup.bash), or give the sensor FILE.yaml");
+  }
+  return std::filesystem::path(package) / "config" / "sensors";
+}
+
 granular::SensorConfig loadSensorFile(const std::string& name_or_file) {
   const bool is_name = name_or_file.find('/') == std::string::npos &&
                        std::filesystem::path(name_or_file).extension() != ".yaml";
+  if (!is_name && !std::filesystem::is_regular_file(name_or_file)) {
+    throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " + name_or_file);
+  }
+  const std::filesystem::path sensors = is_name ? sensorsDirectory() : std::filesystem::path();
   const std::filesystem::path file =
-      is_name ? std::filesystem::path(GRANULAR_SENSORS_DIR) / (name_or_file + ".yaml")
-              : std::filesystem::path(name_or_file);
+      is_name ? sensors / (name_or_file + ".yaml") : std::filesystem::path(name_or_file);
   if (!std::filesystem::is_regular_file(file)) {
     std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(GRANULAR_SENSORS_DIR)) {
+    std::error_code unreadable;  // no sensors folder (an install without it): no names
+    for (const auto& entry : std::filesystem::directory_iterator(sensors, unreadable)) {
       if (entry.path().extension() == ".yaml") {
         names.push_back(entry.path().stem().string());
       }
     }
     std::sort(names.begin(), names.end());
+    const std::string known =
+        names.empty() ? "none in " + sensors.string() : granular::joined(names);
     throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " +
-                                file.string() + " (sensors: " + granular::joined(names) +
+                                file.string() + " (sensors: " + known +
                                 ", auto, or a FILE.yaml)");
   }
   granular::SensorConfig sensor;

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include <granular_core/dataset/pcd_io.h>
-#include <ros/package.h>
 #include <granular_core/text.h>
+#include <ros/package.h>
 
 #include "granular_ros/config_file.h"
 
@@ -38,28 +38,38 @@ std::filesystem::path sensorsDirectory() {
   return std::filesystem::path(package) / "config" / "sensors";
 }
 
+namespace {
+
+// The shipped sensors' names for an error message, or why there are none.
+std::string shippedSensorNames() {
+  std::filesystem::path sensors;
+  try {
+    sensors = sensorsDirectory();
+  } catch (const std::invalid_argument&) {
+    return "none known: granular_ros not found on ROS_PACKAGE_PATH";
+  }
+  std::vector<std::string> names;
+  std::error_code unreadable;  // no sensors folder (an install without it): no names
+  for (const auto& entry : std::filesystem::directory_iterator(sensors, unreadable)) {
+    if (entry.path().extension() == ".yaml") {
+      names.push_back(entry.path().stem().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names.empty() ? "none in " + sensors.string() : granular::joined(names);
+}
+
+}  // namespace
+
 granular::SensorConfig loadSensorFile(const std::string& name_or_file) {
   const bool is_name = name_or_file.find('/') == std::string::npos &&
                        std::filesystem::path(name_or_file).extension() != ".yaml";
-  if (!is_name && !std::filesystem::is_regular_file(name_or_file)) {
-    throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " + name_or_file);
-  }
-  const std::filesystem::path sensors = is_name ? sensorsDirectory() : std::filesystem::path();
-  const std::filesystem::path file =
-      is_name ? sensors / (name_or_file + ".yaml") : std::filesystem::path(name_or_file);
+  const std::filesystem::path file = is_name
+                                         ? sensorsDirectory() / (name_or_file + ".yaml")
+                                         : std::filesystem::path(name_or_file);
   if (!std::filesystem::is_regular_file(file)) {
-    std::vector<std::string> names;
-    std::error_code unreadable;  // no sensors folder (an install without it): no names
-    for (const auto& entry : std::filesystem::directory_iterator(sensors, unreadable)) {
-      if (entry.path().extension() == ".yaml") {
-        names.push_back(entry.path().stem().string());
-      }
-    }
-    std::sort(names.begin(), names.end());
-    const std::string known =
-        names.empty() ? "none in " + sensors.string() : granular::joined(names);
     throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " +
-                                file.string() + " (sensors: " + known +
+                                file.string() + " (sensors: " + shippedSensorNames() +
                                 ", auto, or a FILE.yaml)");
   }
   granular::SensorConfig sensor;

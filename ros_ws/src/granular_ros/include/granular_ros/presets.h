@@ -19,4 +19,7 @@ inline constexpr const char* kDefaultPreset = "tuned";
 granular::RegistrationClassifierConfig resolvePreset(
     const std::optional<std::filesystem::path>& file, const std::string& name);
 
+/// The --preset option's help: the built-in presets, what sets them apart, and the default.
+std::string presetHelp();
+
 }  // namespace granular_ros

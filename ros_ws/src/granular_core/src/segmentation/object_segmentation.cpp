@@ -1,3 +1,7 @@
+// ObjectSegmenter: candidates on a range-aware grid, cells linked into components, the gates and
+// the walls peeled off them; the gates' verdicts are Rejections. (Over 400 lines: segment()
+// keeps the frame's cell tables, which the grid, the links, the gates and the walls all read,
+// as locals of one method; giving each its own unit is issue 50's open item 5.)
 #include "granular_core/segmentation/object_segmentation.h"
 
 #include <algorithm>
@@ -8,7 +12,6 @@
 #include <numeric>
 #include <optional>
 #include <stdexcept>
-#include <string_view>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
@@ -214,6 +217,44 @@ std::vector<bool> enclosedCells(const std::vector<std::uint32_t>& cells,
   return enclosed;
 }
 
+// Why a segment is removed: the first gate it fails, or a wall peeled off it. The names are
+// the keys of ObjectSegmentation::rejected.
+enum class Rejection {
+  kMinPoints,
+  kMaxSize,
+  kMinTop,
+  kMaxBottom,
+  kMaxColumnTop,
+  kWall,
+  kPole,
+  kTerrain,
+  kWallsPeeled,
+};
+
+const char* rejectionName(Rejection rejection) {
+  switch (rejection) {
+    case Rejection::kMinPoints:
+      return "min_points";
+    case Rejection::kMaxSize:
+      return "max_size";
+    case Rejection::kMinTop:
+      return "min_top";
+    case Rejection::kMaxBottom:
+      return "max_bottom";
+    case Rejection::kMaxColumnTop:
+      return "max_column_top";
+    case Rejection::kWall:
+      return "wall";
+    case Rejection::kPole:
+      return "pole";
+    case Rejection::kTerrain:
+      return "terrain";
+    case Rejection::kWallsPeeled:
+      return "walls_peeled";
+  }
+  return "";
+}
+
 // What the gates look at, for one segment.
 struct SegmentShape {
   Rectangle footprint;
@@ -290,6 +331,146 @@ void principalThickness(const Cloud& cloud, const std::vector<std::size_t>& indi
   shape.thickness = std::sqrt(std::max(0.0, solver.eigenvalues()(0)));
   shape.normal_tilt_deg =
       std::acos(std::min(1.0, std::abs(solver.eigenvectors().col(0).z()))) * 180.0 / M_PI;
+}
+
+// What the gates read of one frame's occupied cells: the candidates of cell k (the grid cell
+// occupied[k], on a grid `side` cells wide) are by_cell[start[k] .. start[k + 1]), and the
+// highest return over it top_of_cell[k].
+struct FrameCells {
+  const Cloud& cloud;
+  const std::vector<float>& heights;
+  int side;
+  const std::vector<std::uint32_t>& occupied;
+  const std::vector<std::uint32_t>& start;
+  const std::vector<std::size_t>& by_cell;
+  const std::vector<float>& top_of_cell;
+};
+
+// The segment of `cells` (ascending) through the gates, cheapest first: most components are a
+// few stray points, and the footprint's hull and the covariance are only needed for the rest.
+// A segment that passes is added to `segments`; otherwise the first gate it fails is returned.
+// `wall_direction` (rad): for a piece left by a peeled wall, the wall's, along which a thin
+// piece is more of the wall.
+std::optional<Rejection> gateSegment(const FrameCells& frame,
+                                     const std::vector<std::uint32_t>& cells,
+                                     std::optional<double> wall_direction,
+                                     const ObjectSegmentationConfig& config,
+                                     std::vector<Segment>& segments) {
+  const Cloud& cloud = frame.cloud;
+  const std::vector<float>& heights = frame.heights;
+  const std::vector<std::uint32_t>& occupied = frame.occupied;
+  const std::vector<std::uint32_t>& start = frame.start;
+  const std::vector<std::size_t>& by_cell = frame.by_cell;
+  const std::vector<float>& top_of_cell = frame.top_of_cell;
+  const SegmentGates& gates = config.gates;
+  const double max_spread = std::hypot(gates.max_length, gates.max_width);
+  std::size_t points = 0;
+  int least_row = frame.side, most_row = -1, least_col = frame.side, most_col = -1;
+  for (const std::uint32_t k : cells) {
+    points += start[k + 1] - start[k];
+    const int row = static_cast<int>(occupied[k] / frame.side);
+    const int col = static_cast<int>(occupied[k] % frame.side);
+    least_row = std::min(least_row, row);
+    most_row = std::max(most_row, row);
+    least_col = std::min(least_col, col);
+    most_col = std::max(most_col, col);
+  }
+  if (points < gates.min_points) {
+    return Rejection::kMinPoints;
+  }
+  // Cells spread over more than the largest footprint's diagonal, even between their
+  // nearest sides: too long or too wide whatever the points (the spread test below, early).
+  if ((std::max(most_row - least_row, most_col - least_col) - 1) * config.cell_size >
+      max_spread) {
+    return Rejection::kMaxSize;
+  }
+  std::vector<std::size_t> indices;
+  indices.reserve(points);
+  SegmentShape shape;
+  shape.points = points;
+  for (const std::uint32_t k : cells) {
+    indices.insert(indices.end(), by_cell.begin() + start[k], by_cell.begin() + start[k + 1]);
+    shape.column_top = std::max(shape.column_top, double(top_of_cell[k]));
+  }
+  double min_z = std::numeric_limits<double>::infinity(), max_z = -min_z;
+  shape.top = -std::numeric_limits<double>::infinity();
+  shape.bottom = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (const std::size_t i : indices) {
+    min_z = std::min(min_z, double(cloud[i].z));
+    max_z = std::max(max_z, double(cloud[i].z));
+    shape.top = std::max(shape.top, double(heights[i]));
+    shape.bottom = std::min(shape.bottom, double(heights[i]));
+    const Eigen::Vector2d xy(cloud[i].x, cloud[i].y);
+    mean += xy;
+    low = low.cwiseMin(xy);
+    high = high.cwiseMax(xy);
+  }
+  shape.range = (mean / static_cast<double>(indices.size())).norm();
+  if (shape.top < gates.min_top) {
+    return Rejection::kMinTop;
+  }
+  if (shape.bottom > gates.max_bottom + gates.max_bottom_per_m * shape.range) {
+    return Rejection::kMaxBottom;
+  }
+  if (shape.column_top > gates.max_column_top) {
+    return Rejection::kMaxColumnTop;
+  }
+  // A segment spreading farther along x or y than the diagonal of the largest footprint
+  // allowed has a footprint too long or too wide, whatever its rectangle: a building or a
+  // row of trees, gated without its hull.
+  if ((high - low).maxCoeff() > max_spread) {
+    return Rejection::kMaxSize;
+  }
+  const std::vector<bool> enclosed =
+      enclosedCells(cells, occupied, frame.side, least_row, most_row);
+  std::vector<Eigen::Vector2d> xy;
+  for (std::size_t j = 0; j < cells.size(); ++j) {
+    if (enclosed[j]) {
+      continue;
+    }
+    const std::uint32_t k = cells[j];
+    for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
+      xy.emplace_back(cloud[by_cell[c]].x, cloud[by_cell[c]].y);
+    }
+  }
+  shape.footprint = minimumAreaRectangle(xy);
+  const Rectangle& footprint = shape.footprint;
+  if (tooLarge(footprint, gates)) {
+    return Rejection::kMaxSize;
+  }
+  if (wallShaped(footprint, gates) && !isVehicleSide(cloud, indices, heights, shape, gates)) {
+    return Rejection::kWall;
+  }
+  if (wall_direction && footprint.width < gates.wall_width &&
+      std::abs(std::remainder(footprint.yaw - *wall_direction, M_PI)) <=
+          config.walls.parallel_deg * M_PI / 180.0) {
+    return Rejection::kWall;
+  }
+  if (std::hypot(footprint.length, footprint.width) < gates.pole_diagonal &&
+      shape.column_top > gates.pole_top) {
+    return Rejection::kPole;
+  }
+  principalThickness(cloud, indices, shape);
+  if (shape.normal_tilt_deg < gates.terrain_angle_deg &&
+      shape.thickness < gates.terrain_thickness) {
+    return Rejection::kTerrain;
+  }
+  std::sort(indices.begin(), indices.end());
+  // From the ground under the segment to its highest point; the footprint and the top grown
+  // by kEdgeAllowance, so that cropping by the box keeps the points on its faces.
+  const double floor = min_z - shape.bottom;
+  const double top = max_z + kEdgeAllowance;
+  const OrientedBox box(
+      Eigen::Vector3d(footprint.centre.x(), footprint.centre.y(), 0.5 * (floor + top)),
+      Eigen::Quaterniond(Eigen::AngleAxisd(footprint.yaw, Eigen::Vector3d::UnitZ())),
+      Eigen::Vector3d(std::max(footprint.length + 2.0 * kEdgeAllowance, config.cell_size),
+                      std::max(footprint.width + 2.0 * kEdgeAllowance, config.cell_size),
+                      std::max(top - floor, config.cell_size)));
+  segments.push_back(Segment{box, std::move(indices), cells.size()});
+  return std::nullopt;
 }
 
 }  // namespace
@@ -485,123 +666,8 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   const std::vector<std::vector<std::uint32_t>> component_cells =
       groupsOf(components, occupied.size());
 
-  // Cells (ascending) through the gates, cheapest first: most components are a few stray
-  // points, and the footprint's hull and the covariance are only needed for the rest. A
-  // segment that passes is added to the result; otherwise the first failing gate is returned.
-  // `wall_direction` (rad): for a piece left by a peeled wall, the wall's, along which a thin
-  // piece is more of the wall.
-  const double max_spread = std::hypot(config.gates.max_length, config.gates.max_width);
-  const auto gate = [&](const std::vector<std::uint32_t>& cells,
-                        std::optional<double> wall_direction) -> const char* {
-    const SegmentGates& gates = config.gates;
-    std::size_t points = 0;
-    int least_row = grid.side, most_row = -1, least_col = grid.side, most_col = -1;
-    for (const std::uint32_t k : cells) {
-      points += start[k + 1] - start[k];
-      const int row = static_cast<int>(occupied[k] / grid.side);
-      const int col = static_cast<int>(occupied[k] % grid.side);
-      least_row = std::min(least_row, row);
-      most_row = std::max(most_row, row);
-      least_col = std::min(least_col, col);
-      most_col = std::max(most_col, col);
-    }
-    if (points < gates.min_points) {
-      return "min_points";
-    }
-    // Cells spread over more than the largest footprint's diagonal, even between their
-    // nearest sides: too long or too wide whatever the points (the spread test below, early).
-    if ((std::max(most_row - least_row, most_col - least_col) - 1) * config.cell_size >
-        max_spread) {
-      return "max_size";
-    }
-    std::vector<std::size_t> indices;
-    indices.reserve(points);
-    SegmentShape shape;
-    shape.points = points;
-    for (const std::uint32_t k : cells) {
-      indices.insert(indices.end(), by_cell.begin() + start[k], by_cell.begin() + start[k + 1]);
-      shape.column_top = std::max(shape.column_top, double(top_of_cell[k]));
-    }
-    double min_z = std::numeric_limits<double>::infinity(), max_z = -min_z;
-    shape.top = -std::numeric_limits<double>::infinity();
-    shape.bottom = std::numeric_limits<double>::infinity();
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d high = -low;
-    for (const std::size_t i : indices) {
-      min_z = std::min(min_z, double(cloud[i].z));
-      max_z = std::max(max_z, double(cloud[i].z));
-      shape.top = std::max(shape.top, double(heights[i]));
-      shape.bottom = std::min(shape.bottom, double(heights[i]));
-      const Eigen::Vector2d xy(cloud[i].x, cloud[i].y);
-      mean += xy;
-      low = low.cwiseMin(xy);
-      high = high.cwiseMax(xy);
-    }
-    shape.range = (mean / static_cast<double>(indices.size())).norm();
-    if (shape.top < gates.min_top) {
-      return "min_top";
-    }
-    if (shape.bottom > gates.max_bottom + gates.max_bottom_per_m * shape.range) {
-      return "max_bottom";
-    }
-    if (shape.column_top > gates.max_column_top) {
-      return "max_column_top";
-    }
-    // A segment spreading farther along x or y than the diagonal of the largest footprint
-    // allowed has a footprint too long or too wide, whatever its rectangle: a building or a
-    // row of trees, gated without its hull.
-    if ((high - low).maxCoeff() > max_spread) {
-      return "max_size";
-    }
-    const std::vector<bool> enclosed =
-        enclosedCells(cells, occupied, grid.side, least_row, most_row);
-    std::vector<Eigen::Vector2d> xy;
-    for (std::size_t j = 0; j < cells.size(); ++j) {
-      if (enclosed[j]) {
-        continue;
-      }
-      const std::uint32_t k = cells[j];
-      for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
-        xy.emplace_back(cloud[by_cell[c]].x, cloud[by_cell[c]].y);
-      }
-    }
-    shape.footprint = minimumAreaRectangle(xy);
-    const Rectangle& footprint = shape.footprint;
-    if (tooLarge(footprint, gates)) {
-      return "max_size";
-    }
-    if (wallShaped(footprint, gates) && !isVehicleSide(cloud, indices, heights, shape, gates)) {
-      return "wall";
-    }
-    if (wall_direction && footprint.width < gates.wall_width &&
-        std::abs(std::remainder(footprint.yaw - *wall_direction, M_PI)) <=
-            config.walls.parallel_deg * M_PI / 180.0) {
-      return "wall";
-    }
-    if (std::hypot(footprint.length, footprint.width) < gates.pole_diagonal &&
-        shape.column_top > gates.pole_top) {
-      return "pole";
-    }
-    principalThickness(cloud, indices, shape);
-    if (shape.normal_tilt_deg < gates.terrain_angle_deg &&
-        shape.thickness < gates.terrain_thickness) {
-      return "terrain";
-    }
-    std::sort(indices.begin(), indices.end());
-    // From the ground under the segment to its highest point; the footprint and the top grown
-    // by kEdgeAllowance, so that cropping by the box keeps the points on its faces.
-    const double floor = min_z - shape.bottom;
-    const double top = max_z + kEdgeAllowance;
-    const OrientedBox box(
-        Eigen::Vector3d(footprint.centre.x(), footprint.centre.y(), 0.5 * (floor + top)),
-        Eigen::Quaterniond(Eigen::AngleAxisd(footprint.yaw, Eigen::Vector3d::UnitZ())),
-        Eigen::Vector3d(std::max(footprint.length + 2.0 * kEdgeAllowance, config.cell_size),
-                        std::max(footprint.width + 2.0 * kEdgeAllowance, config.cell_size),
-                        std::max(top - floor, config.cell_size)));
-    result.segments.push_back(Segment{box, std::move(indices), cells.size()});
-    return nullptr;
-  };
+  // The gates read the frame's cells through this view (gateSegment).
+  const FrameCells frame{cloud, heights, grid.side, occupied, start, by_cell, top_of_cell};
 
   // The cells left when the longest straight wall (WallPeeling) is taken from `cells`, in the
   // pieces they fall into (each ascending, in the order of its first cell), and the wall's
@@ -765,16 +831,16 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   // Each component, and what a wall peeled from it leaves, through the gates.
   const auto gateOrPeel = [&](const auto& self, const std::vector<std::uint32_t>& cells,
                               std::optional<double> wall_direction, int peeled) -> void {
-    const char* failed = gate(cells, wall_direction);
-    if (failed == nullptr) {
+    const std::optional<Rejection> failed =
+        gateSegment(frame, cells, wall_direction, config, result.segments);
+    if (!failed) {
       return;
     }
-    ++result.rejected[failed];
-    const std::string_view why(failed);
+    ++result.rejected[rejectionName(*failed)];
     if (peeled < walls.max_walls && cells.size() <= walls.max_cells &&
-        (why == "max_size" || why == "wall")) {
+        (*failed == Rejection::kMaxSize || *failed == Rejection::kWall)) {
       if (const std::optional<PeeledWall> wall = peelWall(cells)) {
-        ++result.rejected["walls_peeled"];
+        ++result.rejected[rejectionName(Rejection::kWallsPeeled)];
         for (const std::vector<std::uint32_t>& piece : wall->pieces) {
           self(self, piece, wall->direction, peeled + 1);
         }

@@ -1,6 +1,7 @@
 #include "granular_ros/box_free_options.h"
 
 #include <algorithm>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
@@ -123,6 +124,13 @@ granular::SegmentationStageConfig BoxFreeOptions::segmentation() const {
           config.objects.azimuth_step_deg = *azimuth_step;
         }
       });
+}
+
+bool isVehicleDecision(const std::string& file) {
+  std::ifstream stream(file);
+  std::string first_line;
+  // An unreadable file is left to the classifier's loader, which names the problem.
+  return std::getline(stream, first_line) && first_line.rfind("%YAML:", 0) != 0;
 }
 
 granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,

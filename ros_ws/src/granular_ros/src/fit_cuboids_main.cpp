@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   };
   std::optional<granular::SupervisedClassifier> classifier;
   return tool.run(argc, argv, configure, [&] {
-    if (options.classifier_file) {
+    if (options.classifier_file && !granular_ros::isVehicleDecision(*options.classifier_file)) {
       classifier.emplace(granular_ros::loadBackgroundClassifier(
           *options.classifier_file, run.segmentation.background.label));
       run.classifier = &*classifier;

@@ -61,7 +61,9 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
              "cuboid; far sparse segments are kept (see background.abstain_points and "
              "abstain_range); the others' cuboids take its class and score as label (where the "
              "method gives none: geometric, rectangle), unknown where its answer was a "
-             "Background not sure enough to drop")
+             "Background not sure enough to drop; or a vehicle decision that "
+             "train_vehicle_decision tuned on labelled frames (the evidence: keys of --config, "
+             "laid over them)")
       .list("--prior-classes", prior_classes, "LIST",
             "the size priors the geometric fit chooses among, comma-separated "
             "(geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,BoxTruck,SchoolBus for the "
@@ -83,6 +85,9 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
 
 granular::CuboidConfig FitCuboidsOptions::config() const {
   return buildConfig<granular::CuboidConfig>(config_file, [&](granular::CuboidConfig& cuboids) {
+    if (classifier_file && isVehicleDecision(*classifier_file)) {
+      loadConfigFile(*classifier_file, cuboids);
+    }
     if (method) {
       cuboids.method = parseChoice<granular::CuboidMethod>("--method", *method);
     }

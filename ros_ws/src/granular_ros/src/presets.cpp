@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "granular_ros/command_line.h"
 #include "granular_ros/config_file.h"
 
 namespace granular_ros {
@@ -48,6 +49,21 @@ granular::ObjectClassifier makeObjectClassifier(
   }
   throw std::invalid_argument(
       "expected icp, icp_nl, ndt, knn, svm, svm_esf or svm_fitness, got '" + method + "'");
+}
+
+std::string presetHelp() {
+  const auto presets = granular::registrationPresets();
+  const granular::RegistrationClassifierConfig& report = presets.at("report");
+  const granular::RegistrationClassifierConfig& tuned = presets.at("tuned");
+  return "parameter set: report (the report's values: ICP " + shown(report.icp.max_iterations) +
+         " iteration, " + shown(report.icp.max_correspondence_distance) +
+         " m; NDT resolution " + shown(report.ndt.resolution) + " m, " +
+         shown(report.ndt.max_iterations) +
+         " iterations), tuned (chosen on training drives; ICP and ICP-NL first pair points up "
+         "to " + shown(tuned.icp.coarse_correspondence_distance) + " m for " +
+         shown(tuned.icp.coarse_iterations) + " iterations; at most " +
+         shown(tuned.source_max_points) + " points an object) or fast (tuned on at most " +
+         shown(presets.at("fast").source_max_points) + " points); default " + kDefaultPreset;
 }
 
 }  // namespace granular_ros

@@ -32,4 +32,7 @@ granular::ObjectClassifier makeObjectClassifier(
     const std::optional<std::filesystem::path>& presets_file, const std::string& preset,
     int threads);
 
+/// The --preset option's help: the built-in presets, what sets them apart, and the default.
+std::string presetHelp();
+
 }  // namespace granular_ros

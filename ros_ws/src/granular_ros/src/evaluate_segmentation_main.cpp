@@ -53,6 +53,10 @@ std::string usage() {
          "                         x y z with each point's height above the ground and\n"
          "                         its segment (-1 ground, 0 none, k+1 segment k), for\n"
          "                         render_frame\n"
+         "  --allow-other-frames   go on when a cloud's road is not where the sensor's frame\n"
+         "                         puts it (ground sensor_frame: a world or vehicle frame),\n"
+         "                         naming each such frame among those without ground;\n"
+         "                         without it the first such frame stops the run (exit 1)\n"
          "  --overwrite            replace a --save folder a granular tool wrote\n"
          "  --max-distance M       metres between matched centres (default 1)\n"
          "  --min-points N         points a true box must hold to count (default 10)\n"
@@ -62,8 +66,8 @@ std::string usage() {
          "  --max-range M          count objects and segments nearer than M metres only\n"
          "  -h, --help             print this help and exit\n"
          "\n"
-         "Exit status: 0 done, 1 failed (unreadable input, a classifier without the Background\n"
-         "class, --save folder not writable or holding results without --overwrite), 2 bad\n"
+         "Exit status: 0 done, 1 failed (unreadable input, a cloud not in the sensor's frame,\n"
+         "a classifier without the Background class, --save folder not writable or holding results without --overwrite), 2 bad\n"
          "option or configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
@@ -98,6 +102,7 @@ int main(int argc, char** argv) {
       .value("--prior-classes", prior_classes)
       .value("--save", save)
       .flag("--overwrite", overwrite)
+      .flag("--allow-other-frames", options.allow_other_frames)
       .number("--max-distance", options.max_distance)
       .number("--min-points", options.min_points)
       .number("--field-of-view", options.half_field_of_view_deg)

@@ -68,6 +68,10 @@ std::string usage() {
          "                         written, numbered per frame, at rest\n"
          "  --tracking-config FILE YAML file like config/tracking.yaml (implies --track)\n"
          "  --threads N            threads fitting a frame's objects (default: every core)\n"
+         "  --allow-other-frames   go on when a cloud's road is not where the sensor's frame\n"
+         "                         puts it (ground sensor_frame: a world or vehicle frame),\n"
+         "                         naming each such frame among those without ground;\n"
+         "                         without it the first such frame stops the run (exit 1)\n"
          "  --overwrite            replace --out when a granular tool wrote it (a folder of\n"
          "                         other files is never replaced)\n"
          "  -h, --help             print this help and exit\n"
@@ -78,8 +82,8 @@ std::string usage() {
          "Progress goes to stderr, a summary to stdout: cuboids per label and the time per\n"
          "object in the fitter (median, p95, max). --out is built beside itself and put in\n"
          "place when complete; a second run into it is refused meanwhile. Exit status: 0 done,\n"
-         "1 failed (unreadable input, output not writable or holding results without\n"
-         "--overwrite), 2 bad option or configuration, 130/143/129 interrupted by\n"
+         "1 failed (unreadable input, a cloud not in the sensor's frame, output not writable\n"
+         "or holding results without --overwrite), 2 bad option or configuration, 130/143/129 interrupted by\n"
          "SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
@@ -103,6 +107,7 @@ struct Options {
   std::optional<std::string> tracking_config_file;
   int threads = 0;
   bool overwrite = false;
+  bool allow_other_frames = false;
 };
 
 }  // namespace
@@ -114,6 +119,7 @@ int main(int argc, char** argv) {
   granular_ros::Tool tool("fit_cuboids", usage);
   tool.options()
       .flag("--overwrite", options.overwrite)
+      .flag("--allow-other-frames", options.allow_other_frames)
       .required("--frames", options.frames)
       .required("--out", options.out)
       .value("--models", options.models)
@@ -176,6 +182,7 @@ int main(int argc, char** argv) {
     pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
     run.threads = options.threads;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.allow_other_frames = options.allow_other_frames;
     run.progress = tool.progress("fitting", "frames");
     granular::fitCuboidsFolder(options.frames, options.out, config, run)
         .report(std::cout, std::cerr);

@@ -1,9 +1,10 @@
 """Hostile inputs through the box-free tools (fit_cuboids, evaluate_segmentation, run_cuboids,
 online.launch boxes:=segment) and the labelling documents: clouds with no points, all NaN, one
 ring, a billion-metre point; frames whose ground cannot be found (a wall filling the view, an
-empty scene, a cloud 50 m below the sensor); a detections document edited by hand into
-nonsense. Each case: exit 0 with every frame written and the culprit named, or a clear one-line
-error; nothing half written."""
+empty scene); clouds not in the sensor's frame (a cloud 50 m below the sensor, a drive shifted
+and tilted as a world frame has it); a detections document edited by hand into nonsense. Each
+case: exit 0 with every frame written and the culprit named, or a clear one-line error;
+nothing half written."""
 import json
 
 import numpy as np
@@ -38,7 +39,6 @@ def hostile_clouds():
         "one_ring": np.c_[8.6 * np.cos(angles), 8.6 * np.sin(angles), np.full(360, -2.3)],
         "billion_metres": np.vstack([ground_scene(rng), [[1e9, 0.0, 0.0]]]),
         "wall": np.c_[np.full(3000, 3.0), rng.uniform(-10, 10, 3000), rng.uniform(-2.3, 5, 3000)],
-        "50_m_below": ground_scene(rng, z=-52.3),
         "road": ground_scene(rng),
     }
 
@@ -61,9 +61,7 @@ def hostile_frames(tmp_path_factory):
     return bag, folder / "frames", stamps
 
 
-# Why each frame without ground is named; the others must not be. The cloud 50 m below the
-# sensor has a plane, 50 m too low: telling it from a real road needs the sensor's allowed
-# height (the sensor files' world-frame check, not this suite's).
+# Why each frame without ground is named; the others must not be.
 NO_GROUND = {"empty": "no points, so no ground",
              "all_nan": "all 500 points are NaN or infinite",
              "wall": "no ground plane found among 3000 points (the lowest at z = -2.30 m"}
@@ -153,6 +151,98 @@ def test_online_launch_segmenting_the_hostile_bag_names_a_frame_without_ground(h
     assert result.status == 0, str(result)
     assert_no_crash(result)
     assert "no points, so no ground" in result.output, str(result)
+
+
+# --- clouds not in the sensor's frame ---------------------------------------------------------
+
+def frames_of(folder, clouds, frame_id="velodyne"):
+    """A frames folder of `clouds` (name -> points, one frame each, a Sedan box each) whose
+    clouds and boxes are in `frame_id`; returns (folder, name -> stamp)."""
+    messages, stamps = [], {}
+    for index, (name, points) in enumerate(clouds.items()):
+        t = 0.1 * index
+        stamp = bagmaker.stamp(t)
+        stamps[name] = f"{stamp.secs}{stamp.nsecs:09d}"
+        cloud = bagmaker.cloud(t, points, index)
+        boxes = bagmaker.detections(t, ("Sedan",), index)
+        cloud.header.frame_id = boxes.header.frame_id = frame_id
+        for detection in boxes.detections:
+            detection.header.frame_id = frame_id
+        messages += [(CLOUD_TOPIC, cloud), (DETECTIONS_TOPIC, boxes)]
+    bag = bagmaker.write(folder / "frames.bag", messages)
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", folder / "frames", "--quiet"])
+    assert result.status == 0, str(result)
+    return folder / "frames", stamps
+
+
+OTHER_FRAME_TOOLS = {
+    "fit_cuboids segment": (FIT_CUBOIDS + ["--boxes", "segment", "--out"], "cuboids"),
+    "fit_cuboids detections": (FIT_CUBOIDS + ["--boxes", "detections", "--out"], "cuboids"),
+    "evaluate_segmentation": (EVALUATE_SEGMENTATION + ["--save"], "seen"),
+}
+
+
+@pytest.mark.parametrize("tool_name", sorted(OTHER_FRAME_TOOLS))
+def test_a_cloud_50_m_below_the_sensor_is_refused_naming_its_frame_and_the_remedy(tmp_path,
+                                                                                 tool_name):
+    """It was segmented above its road, 50 m too low for the sensor, without a word."""
+    rng = np.random.default_rng(1)
+    frames, stamps = frames_of(tmp_path, {"road": ground_scene(rng),
+                                          "50_m_below": ground_scene(rng, z=-52.3)})
+    command, out = OTHER_FRAME_TOOLS[tool_name]
+    result = run(command + [tmp_path / out, "--frames", frames] + SIMULATOR)
+    hostile.assert_fails_clearly(
+        result, 1, f"{stamps['50_m_below']}: the road lies at z = -52.",
+        " m under the sensor, tilted 0.0 deg, where the sensor's frame has it at z = -2.30 m",
+        "in frame 'velodyne', looks like a world or vehicle frame", "a static transform from "
+        "'velodyne' to the sensor", "--sensor auto", "--allow-other-frames")
+    assert not (tmp_path / out).exists()
+    assert leftovers(tmp_path) == []
+
+    # The override goes on, naming the frame among those without ground; the road is not named.
+    result = run(command + [tmp_path / out, "--frames", frames, "--allow-other-frames"]
+                 + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert f"{stamps['50_m_below']}: the road lies at z = -52." in result.output
+    assert f"{stamps['road']}:" not in result.output, str(result)
+    assert len(list((tmp_path / out).glob("[!.]*.json"))) == 2
+
+
+def test_a_drive_shifted_and_tilted_as_a_world_frame_is_refused_naming_the_frame(drive,
+                                                                                tmp_path):
+    """The simulated drive's clouds as a world frame would give them: the road at z = 0 (the
+    sensor 2.3 m above it) and leaning a little more each frame; the boxes in frame 'odom'."""
+    import shutil
+
+    from granular_tools.pcd import read_pcd
+
+    frames = tmp_path / "frames"
+    shutil.copytree(drive / "frames", frames)
+    clouds = sorted((frames / "pcd").glob("[!.]*.pcd"))
+    for index, path in enumerate(clouds):
+        raw = path.read_bytes()
+        points = read_pcd(path)[1].copy()
+        pitch = np.radians(2.0 * index)
+        x, z = points["x"].astype(float), points["z"].astype(float)
+        points["x"] = np.cos(pitch) * x + np.sin(pitch) * z
+        points["z"] = -np.sin(pitch) * x + np.cos(pitch) * z + 2.3
+        data = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+        path.write_bytes(raw[:data] + points.tobytes())
+    for path in (frames / "detections_3d").glob("[!.]*.json"):
+        document = json.loads(path.read_text())
+        document["header"]["frame_id"] = "odom"
+        path.write_text(json.dumps(document))
+    first = clouds[0].stem
+    for command, out in OTHER_FRAME_TOOLS.values():
+        result = run(command + [tmp_path / out, "--frames", frames] + SIMULATOR)
+        hostile.assert_fails_clearly(result, 1, f"{first}: the road lies at z = 0.00 m under the "
+                                     "sensor", "in frame 'odom'", "a static transform from 'odom'")
+        assert not (tmp_path / out).exists()
+    # The same frames in the sensor's frame: no frame named.
+    result = run(FIT_CUBOIDS + ["--frames", drive / "frames", "--out", tmp_path / "sensor"]
+                 + SIMULATOR)
+    assert result.status == 0 and "frames without ground" not in result.output, str(result)
+    assert leftovers(tmp_path) == []
 
 
 # --- a detections document edited by hand into nonsense ---------------------------------------

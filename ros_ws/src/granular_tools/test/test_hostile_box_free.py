@@ -245,6 +245,112 @@ def test_a_drive_shifted_and_tilted_as_a_world_frame_is_refused_naming_the_frame
     assert leftovers(tmp_path) == []
 
 
+# --- the labelling tool's fit service (fit_cuboid_server, label_cuboids' new boxes) -----------
+
+def write_xyz_pcd(path, xyz):
+    xyz = np.asarray(xyz, np.float32).reshape(-1, 3)
+    header = ("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+              f"WIDTH {len(xyz)}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(xyz)}\n"
+              "DATA binary\n")
+    path.write_bytes(header.encode() + xyz.tobytes())
+    return path
+
+
+@pytest.fixture(scope="module")
+def fit_service(tmp_path_factory):
+    """fit_cuboid_server on its own master; yields (call(cloud_file, click) -> reply, folder)."""
+    import os
+    import subprocess
+
+    import rosgraph
+    import rospy
+    from geometry_msgs.msg import Point, Vector3
+    from granular_ros.srv import FitCuboid
+    from test_hostile_launch import own_master_environment
+
+    env = own_master_environment()
+    port = env["ROS_MASTER_URI"].rsplit(":", 1)[1]
+    master = subprocess.Popen(["rosmaster", "--core", "-p", port], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    server = subprocess.Popen(tool("granular_ros", "fit_cuboid_server"), env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    saved = os.environ.get("ROS_MASTER_URI")
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    try:
+        def service_up():  # rospy's wait_for_service needs init_node for its timeout
+            try:
+                rosgraph.Master("/hostile").lookupService("/fit_cuboid")
+                return True
+            except Exception:  # the master not up yet, or the service not registered
+                return False
+
+        hostile.wait_for(service_up, 60, "the fit service")
+        proxy = rospy.ServiceProxy("fit_cuboid", FitCuboid)
+
+        def call(cloud_file, click):
+            reply = proxy(cloud_file=str(cloud_file), click=Point(*click), label="Sedan",
+                          size=Vector3(4.5, 1.8, 1.5))
+            assert server.poll() is None, "the fit service died"
+            return reply
+
+        yield call, tmp_path_factory.mktemp("fit_service")
+    finally:
+        if saved is None:
+            os.environ.pop("ROS_MASTER_URI", None)
+        else:
+            os.environ["ROS_MASTER_URI"] = saved
+        server.terminate()
+        server.wait(timeout=20)
+        master.terminate()
+        master.wait(timeout=20)
+
+
+FIT_SERVICE_REFUSALS = {
+    "an empty cloud": ("empty", (10.0, 0.0, -1.5),
+                       "the cloud has no finite point: nothing to fit a box to"),
+    "a cloud all NaN": ("all_nan", (10.0, 0.0, -1.5),
+                        "the cloud has no finite point: nothing to fit a box to"),
+    "a NaN click": ("scene", (float("nan"), 0.0, -1.5),
+                    "the click (nan, 0, -1.5) is not finite: no box"),
+    "a click far from every point": ("scene", (1e6, 0.0, 0.0),
+                                     "the click (1e+06, 0, 0) is 999970.0 m from the nearest "
+                                     "point of the cloud, farther than click.ground_radius "
+                                     "(6.0 m): click on the cloud"),
+    "a cloud file that vanished": ("missing", (10.0, 0.0, -1.5), "cannot read: No such file or directory"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(FIT_SERVICE_REFUSALS))
+def test_the_fit_service_refuses_a_box_it_cannot_place_naming_the_file_and_the_click(
+        fit_service, case):
+    """An empty cloud, a cloud of NaN or a click away from the cloud gave a box of the class's
+    size standing at the click's own height (rviz's grid: the sensor's); a NaN click was
+    "box centre is not finite"."""
+    call, folder = fit_service
+    name, click, why = FIT_SERVICE_REFUSALS[case]
+    files = {"empty": lambda path: write_xyz_pcd(path, np.zeros((0, 3))),
+             "all_nan": lambda path: write_xyz_pcd(path, np.full((100, 3), np.nan)),
+             "scene": lambda path: write_xyz_pcd(path, ground_scene(np.random.default_rng(1))),
+             "missing": lambda path: path}
+    cloud_file = files[name](folder / f"{name}.pcd")
+    reply = call(cloud_file, click)
+    assert reply.error == f"{cloud_file}: {why}"
+    assert reply.points == 0
+
+
+def test_the_fit_service_fits_a_car_in_a_huge_cloud(fit_service):
+    """Two million points around a car: the box is fitted to the car, the service still up."""
+    call, folder = fit_service
+    rng = np.random.default_rng(4)
+    clutter = np.c_[rng.uniform(-80, 80, (2_000_000, 2)), np.full(2_000_000, -2.3)]
+    car = np.array([10.0, 0.0, -1.55]) + rng.uniform(-0.5, 0.5, (300, 3)) * [4.4, 1.8, 1.5]
+    cloud_file = write_xyz_pcd(folder / "huge.pcd", np.vstack([clutter, car]))
+    reply = call(cloud_file, (10.0, 0.0, -1.5))
+    assert reply.error == "" and reply.points > 200, reply
+    centre = reply.cuboid.bbox.position.position
+    assert abs(centre.x - 10.0) < 0.3 and abs(centre.y) < 0.3, reply
+
+
 # --- a detections document edited by hand into nonsense ---------------------------------------
 
 KITTI_LABELS = tool("granular_tools", "kitti_labels")

@@ -548,3 +548,32 @@ def test_a_detection_in_map_with_the_bags_tf_static_is_cropped_in_the_clouds_fra
     assert result.status == 0, str(result)
     (row,) = list(csv.DictReader((tmp_path / "objects" / "index.csv").open()))
     assert (row["label"], row["points"]) == ("Sedan", "400")
+
+
+def test_run_fleet_with_a_bag_that_vanishes_mid_run_fails_that_bag_alone(drive, tmp_path):
+    """One worker: once the first bag's stages have begun, the other bag is deleted. That bag
+    fails naming its path; the first is done; the ledger and report say which."""
+    import shutil
+
+    bags = tmp_path / "bags"
+    bags.mkdir()
+    for name in ("first", "second"):
+        shutil.copyfile(drive / "drive.bag", bags / f"{name}.bag")
+    out = tmp_path / "out"
+    process = hostile.start(hostile.tool("granular_tools", "run_fleet") + [
+        "--bags", bags / "*.bag", "--out", out, "--workers", "1", "--n-thresh", "10",
+        "--methods", "ndt", "--supervised", "svm"])
+    try:
+        hostile.wait_for(lambda: any((out / "bags" / name / "log.txt").exists()
+                                     for name in ("first", "second")), 120, "a bag's stages")
+        started = "first" if (out / "bags" / "first" / "log.txt").exists() else "second"
+        vanished = "second" if started == "first" else "first"
+        (bags / f"{vanished}.bag").unlink()
+    finally:
+        result = hostile.finish(process, timeout=240)
+    assert_fails_clearly(result, 1, f"{vanished} failed: objects:", bags / f"{vanished}.bag",
+                         "No such file or directory")
+    ledger = json.loads((out / "fleet.json").read_text())["bags"]
+    assert (ledger[started]["status"], ledger[vanished]["status"]) == ("done", "failed")
+    assert "## Failed bags" in (out / "index.md").read_text()
+    assert leftovers(tmp_path) == [] and (bags / f"{started}.bag").exists()

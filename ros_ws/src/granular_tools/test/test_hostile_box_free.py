@@ -208,6 +208,23 @@ def test_a_cloud_50_m_below_the_sensor_is_refused_naming_its_frame_and_the_remed
     assert len(list((tmp_path / out).glob("[!.]*.json"))) == 2
 
 
+def test_run_cuboids_stops_at_a_cloud_50_m_below_the_sensor_unless_told_to_go_on(tmp_path):
+    rng = np.random.default_rng(1)
+    _, stamps = frames_of(tmp_path, {"road": ground_scene(rng),
+                                     "50_m_below": ground_scene(rng, z=-52.3)})
+    bag = tmp_path / "frames.bag"
+    result = run(RUN_CUBOIDS + ["--bag", bag, "--out", tmp_path / "run"] + SIMULATOR)
+    hostile.assert_fails_clearly(result, 1, f"{stamps['50_m_below']}: the road lies at z = -52.",
+                                 "cuboids (fit_cuboids): failed with exit status 1")
+    assert not (tmp_path / "run" / "cuboids").exists()
+    result = run(RUN_CUBOIDS + ["--bag", bag, "--out", tmp_path / "run", "--overwrite",
+                                "--allow-other-frames"] + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert f"{stamps['50_m_below']}: the road lies at z = -52." in result.output
+    assert len(list((tmp_path / "run" / "cuboids").glob("[!.]*.json"))) == 2
+    assert leftovers(tmp_path) == []
+
+
 def test_a_drive_shifted_and_tilted_as_a_world_frame_is_refused_naming_the_frame(drive,
                                                                                 tmp_path):
     """The simulated drive's clouds as a world frame would give them: the road at z = 0 (the

@@ -43,6 +43,7 @@ class CuboidsRun(ConfigFolder):
     min_points: int = None      # ... and with at least this many points ...
     labels: tuple = ()          # ... and these labels (none: every label)
     track: bool = False         # track the cuboids (config_dir's tracking.yaml)
+    allow_other_frames: bool = False  # fit_cuboids goes on past clouds not in the sensor's frame
     overwrite: bool = False
 
     def folder(self, name):
@@ -76,9 +77,10 @@ class CuboidsRun(ConfigFolder):
 
 
 def cuboids_stage(run):
-    run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
-                         run.method, run.models, run.classifier, run.track),
-             "cuboids (fit_cuboids)")
+    command = fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
+                          run.method, run.models, run.classifier, run.track)
+    command += ["--allow-other-frames"] if run.allow_other_frames else []
+    run_tool(command, "cuboids (fit_cuboids)")
 
 
 def report_stage(run):
@@ -147,6 +149,10 @@ def main(argv=None):
                              "segmentation.yaml, tracking.yaml (default: the tools' built-in "
                              "defaults)")
     add_sensor_options(parser)
+    parser.add_argument("--allow-other-frames", action="store_true",
+                        help="fit_cuboids goes on past clouds whose road is not where the "
+                             "sensor's frame puts it (a world frame), naming each; without it "
+                             "the first stops the run (docs/ground.md)")
     parser.add_argument("--max-range", default="", metavar="M",
                         help="report: only truths within M metres of the sensor")
     parser.add_argument("--min-points", default="", metavar="N",
@@ -171,7 +177,8 @@ def main(argv=None):
             max_range=positive_number(args.max_range, "max_range"),
             min_points=positive_number(args.min_points, "min_points", int),
             labels=tuple(label for label in args.labels.split(",") if label),
-            track=args.track, overwrite=args.overwrite)
+            track=args.track, allow_other_frames=args.allow_other_frames,
+            overwrite=args.overwrite)
         run(cuboids_run)
         print(f"run_cuboids: done in {time.monotonic() - started:.1f} s; results in "
               f"{cuboids_run.out}")

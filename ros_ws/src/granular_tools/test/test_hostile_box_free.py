@@ -225,6 +225,24 @@ def test_run_cuboids_stops_at_a_cloud_50_m_below_the_sensor_unless_told_to_go_on
     assert leftovers(tmp_path) == []
 
 
+def test_online_launch_segmenting_a_cloud_50_m_below_the_sensor_warns_naming_its_frame(
+        tmp_path, drive):
+    from test_hostile_launch import LAUNCH, own_master_environment
+
+    rng = np.random.default_rng(1)
+    frames_of(tmp_path, {"50_m_below": ground_scene(rng, z=-52.3)}, frame_id="odom")
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "online.launch",
+                           f"bag:={tmp_path / 'frames.bag'}", f"models:={drive / 'knn.yml'}",
+                           "method:=knn", "boxes:=segment", "sensor_height:=2.3", "rviz:=false",
+                           "exit_when_done:=true"],
+                 env=own_master_environment(), timeout=120)
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert "segment_cloud: the cloud of " in result.output, str(result)
+    assert "in frame 'odom': the road lies at z = -52." in result.output, str(result)
+    assert "a static transform from 'odom' to the sensor" in result.output
+
+
 def test_a_drive_shifted_and_tilted_as_a_world_frame_is_refused_naming_the_frame(drive,
                                                                                 tmp_path):
     """The simulated drive's clouds as a world frame would give them: the road at z = 0 (the

@@ -1,6 +1,7 @@
 #include "granular_ros/box_free_options.h"
 
 #include <algorithm>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
@@ -136,6 +137,13 @@ std::string BoxFreeOptions::help(const std::string& segmentation_option) {
          "                         --ground-config; KITTI's HDL-64E 1.73, the simulator's 2.3)\n"
          "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
          "                         (objects.azimuth_step_deg; HDL-64E 0.176, the simulator 1)\n";
+}
+
+bool isVehicleDecision(const std::string& file) {
+  std::ifstream stream(file);
+  std::string first_line;
+  // An unreadable file is left to the classifier's loader, which names the problem.
+  return std::getline(stream, first_line) && first_line.rfind("%YAML:", 0) != 0;
 }
 
 granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,

@@ -57,6 +57,11 @@ struct BoxFreeOptions {
 /// validated, a std::invalid_argument naming the file otherwise.
 granular::SensorConfig loadSensorFile(const std::string& name_or_file);
 
+/// Whether `file`, given as a Background decision, is a vehicle decision (the `evidence:` keys
+/// of config/cuboids.yaml that train_vehicle_decision tuned on labelled frames) rather than a
+/// train_classifier file (OpenCV's YAML, whose first line is "%YAML:1.0").
+bool isVehicleDecision(const std::string& file);
+
 /// The Background decision's classifier from `file` (train_classifier's); a
 /// std::runtime_error naming the file when it knows no class `background_label`.
 granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,

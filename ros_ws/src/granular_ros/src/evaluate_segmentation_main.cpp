@@ -67,8 +67,9 @@ std::string usage() {
          "  -h, --help             print this help and exit\n"
          "\n"
          "Exit status: 0 done, 1 failed (unreadable input, a cloud not in the sensor's frame,\n"
-         "a classifier without the Background class, --save folder not writable or holding results without --overwrite), 2 bad\n"
-         "option or configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n"
+         "a classifier without the Background class, --save folder not writable or holding\n"
+         "results without --overwrite), 2 bad option or configuration, 130/143/129\n"
+         "interrupted by SIGINT/SIGTERM/SIGHUP.\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
          granular_ros::configurationHelp<granular::SegmentationStageConfig>() +

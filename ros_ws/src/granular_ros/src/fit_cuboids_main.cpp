@@ -85,8 +85,8 @@ std::string usage() {
          "object in the fitter (median, p95, max). --out is built beside itself and put in\n"
          "place when complete; a second run into it is refused meanwhile. Exit status: 0 done,\n"
          "1 failed (unreadable input, a cloud not in the sensor's frame, output not writable\n"
-         "or holding results without --overwrite), 2 bad option or configuration, 130/143/129 interrupted by\n"
-         "SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
+         "or holding results without --overwrite), 2 bad option or configuration,\n"
+         "130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
          "\n"
          "configuration keys (--config) and their defaults:\n" +
          granular_ros::configurationHelp<granular::CuboidConfig>() +

@@ -8,6 +8,7 @@
 
 #include <granular_core/dataset/pcd_io.h>
 #include <granular_core/text.h>
+#include <ros/package.h>
 
 #include "granular_ros/config_file.h"
 
@@ -26,22 +27,50 @@ void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_o
       });
 }
 
+std::filesystem::path sensorsDirectory() {
+  // This package's folder: the source (its config/sensors links to the repository's) in a
+  // devel space, share/granular_ros in an install space.
+  const std::string package = ros::package::getPath("granular_ros");
+  if (package.empty()) {
+    throw std::invalid_argument(
+        "--sensor NAME: package granular_ros not found on ROS_PACKAGE_PATH (source the "
+        "workspace's setup.bash), or give the sensor FILE.yaml");
+  }
+  return std::filesystem::path(package) / "config" / "sensors";
+}
+
+namespace {
+
+// The shipped sensors' names for an error message, or why there are none.
+std::string shippedSensorNames() {
+  std::filesystem::path sensors;
+  try {
+    sensors = sensorsDirectory();
+  } catch (const std::invalid_argument&) {
+    return "none known: granular_ros not found on ROS_PACKAGE_PATH";
+  }
+  std::vector<std::string> names;
+  std::error_code unreadable;  // no sensors folder (an install without it): no names
+  for (const auto& entry : std::filesystem::directory_iterator(sensors, unreadable)) {
+    if (entry.path().extension() == ".yaml") {
+      names.push_back(entry.path().stem().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names.empty() ? "none in " + sensors.string() : granular::joined(names);
+}
+
+}  // namespace
+
 granular::SensorConfig loadSensorFile(const std::string& name_or_file) {
   const bool is_name = name_or_file.find('/') == std::string::npos &&
                        std::filesystem::path(name_or_file).extension() != ".yaml";
-  const std::filesystem::path file =
-      is_name ? std::filesystem::path(GRANULAR_SENSORS_DIR) / (name_or_file + ".yaml")
-              : std::filesystem::path(name_or_file);
+  const std::filesystem::path file = is_name
+                                         ? sensorsDirectory() / (name_or_file + ".yaml")
+                                         : std::filesystem::path(name_or_file);
   if (!std::filesystem::is_regular_file(file)) {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(GRANULAR_SENSORS_DIR)) {
-      if (entry.path().extension() == ".yaml") {
-        names.push_back(entry.path().stem().string());
-      }
-    }
-    std::sort(names.begin(), names.end());
     throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " +
-                                file.string() + " (sensors: " + granular::joined(names) +
+                                file.string() + " (sensors: " + shippedSensorNames() +
                                 ", auto, or a FILE.yaml)");
   }
   granular::SensorConfig sensor;

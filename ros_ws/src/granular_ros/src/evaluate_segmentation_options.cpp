@@ -17,9 +17,10 @@ void EvaluateSegmentationOptions::declareIn(Tool& tool) {
       "their footprint: a box of the visible faces of a car seen from behind has its centre\n"
       "on the rear), the share of segments that match no true object, what each gate\n"
       "removed, and the time per cloud. Needs no roscore.\n",
-      "Exit status: 0 done, 1 failed (unreadable input, a classifier without the Background\n"
-      "class, --save folder not writable or holding results without --overwrite), 2 bad\n"
-      "option or configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP.\n\n"
+      "Exit status: 0 done, 1 failed (unreadable input, a cloud not in the sensor's frame,\n"
+      "a classifier without the Background class, --save folder not writable or holding\n"
+      "results without --overwrite), 2 bad option or configuration, 130/143/129\n"
+      "interrupted by SIGINT/SIGTERM/SIGHUP.\n\n"
       "configuration keys (--config) and their defaults:\n" +
           configurationHelp<granular::SegmentationStageConfig>() +
           "\nground configuration keys (--ground-config) and their defaults:\n" +
@@ -48,6 +49,10 @@ void EvaluateSegmentationOptions::declareIn(Tool& tool) {
              "cuboids) as detections (label unknown, or --classifier's), and <stamp>.pcd, x y z "
              "with each point's height above the ground and its segment (-1 ground, 0 none, k+1 "
              "segment k), for render_frame")
+      .flag("--allow-other-frames", evaluation.allow_other_frames,
+            "go on when a cloud's road is not where the sensor's frame puts it (ground "
+            "sensor_frame: a world or vehicle frame), naming each such frame among those "
+            "without ground; without it the first such frame stops the run (exit 1)")
       .flag("--overwrite", overwrite, "replace a --save folder a granular tool wrote")
       .number("--max-distance", evaluation.max_distance, "M",
               "metres between matched centres (default " + shown(evaluation.max_distance) + ")")

@@ -19,9 +19,12 @@ void ExtractObjectsOptions::declareIn(Tool& tool) {
           " m) are skipped as implausible.\nNeeds no roscore.\n",
       "Progress goes to stderr, the summary (objects per label and threshold, frames/s) to\n"
       "stdout. --out is built beside itself and put in place when complete; a second run\n"
-      "into it is refused meanwhile. Exit status: 0 done, 1 extraction failed (unreadable\n"
-      "input, output not writable or holding results without --overwrite), 2 bad option or\n"
-      "configuration, 130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (nothing left half\n"
+      "into it is refused meanwhile. Boxes must be in their cloud's frame (a box whose\n"
+      "header.frame_id is not its file's is refused: bag_to_files moves boxes into the\n"
+      "cloud's frame with the bag's /tf and /tf_static). Exit status: 0 done, 1 extraction\n"
+      "failed (unreadable input, a box in another frame than its cloud, output not writable\n"
+      "or holding results without --overwrite), 2 bad option or configuration,\n"
+      "130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (nothing left half\n"
       "written).\n\nconfiguration keys (--config) and their defaults:\n" +
           configurationHelp(defaults));
   tool.options()

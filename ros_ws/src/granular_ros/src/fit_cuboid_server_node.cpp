@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <granular_core/cuboids/click_fit.h>
@@ -40,15 +41,22 @@ class FitCuboidServer {
                                                 static_cast<float>(clicked.cuboid.score));
       response.points = static_cast<std::uint32_t>(clicked.cuboid.points);
       response.ground = clicked.ground;
-    } catch (const std::exception& error) {  // a bad file or size: the caller says why
-      response.error = error.what();
+    } catch (const std::exception& error) {  // a bad file, click or size: the caller says why
+      const std::string why = error.what();
+      // Each answer names the frame's file; readPcd's own errors already do.
+      response.error = why.rfind(request.cloud_file, 0) == 0 ? why
+                                                             : request.cloud_file + ": " + why;
     }
     return true;
   }
 
   // The finite points of `file`, read again only when it is another file or has changed.
   const std::vector<Eigen::Vector3d>& load(const std::string& file) {
-    const fs::file_time_type modified = fs::last_write_time(file);
+    std::error_code error;
+    const fs::file_time_type modified = fs::last_write_time(file, error);
+    if (error) {
+      throw std::runtime_error("cannot read: " + error.message());
+    }
     if (file != loaded_file_ || modified != loaded_time_) {
       const granular::Cloud cloud = granular::readPcd(file);
       points_.clear();

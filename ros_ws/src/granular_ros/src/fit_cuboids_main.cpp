@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
     pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
     run.threads = options.threads;
     run.output = granular_ros::Tool::outputPolicy(options.overwrite);
+    run.allow_other_frames = options.allow_other_frames;
     run.progress = tool.progress("fitting", "frames");
     granular::fitCuboidsFolder(options.frames, options.out, config, run)
         .report(std::cout, std::cerr);

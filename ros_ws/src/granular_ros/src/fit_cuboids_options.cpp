@@ -35,9 +35,9 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
       "Progress goes to stderr, a summary to stdout: cuboids per label and the time per\n"
       "object in the fitter (median, p95, max). --out is built beside itself and put in\n"
       "place when complete; a second run into it is refused meanwhile. Exit status: 0 done,\n"
-      "1 failed (unreadable input, output not writable or holding results without\n"
-      "--overwrite), 2 bad option or configuration, 130/143/129 interrupted by\n"
-      "SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
+      "1 failed (unreadable input, a cloud not in the sensor's frame, output not writable\n"
+      "or holding results without --overwrite), 2 bad option or configuration,\n"
+      "130/143/129 interrupted by SIGINT/SIGTERM/SIGHUP (nothing left half written).\n"
       "\n"
       "configuration keys (--config) and their defaults:\n" +
       configurationHelp<granular::CuboidConfig>() +
@@ -97,6 +97,10 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
       .value("--tracking-config", tracking_config_file, "FILE",
              "YAML file like config/tracking.yaml (implies --track)")
       .threads("--threads", threads, "threads fitting a frame's objects (default: every core)")
+      .flag("--allow-other-frames", allow_other_frames,
+            "go on when a cloud's road is not where the sensor's frame puts it (ground "
+            "sensor_frame: a world or vehicle frame), naming each such frame among those "
+            "without ground; without it the first such frame stops the run (exit 1)")
       .flag("--overwrite", overwrite,
             "replace --out when a granular tool wrote it (a folder of other files is never "
             "replaced)");

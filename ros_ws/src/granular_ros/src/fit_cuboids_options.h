@@ -33,6 +33,7 @@ struct FitCuboidsOptions {
   std::optional<std::string> tracking_config_file;
   int threads = 0;
   bool overwrite = false;
+  bool allow_other_frames = false;
   BoxFreeOptions box_free;
 
   /// Describes the tool and binds these fields to its options.

@@ -78,7 +78,6 @@ class SegmentCloud {
     }
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
     free_space_config_ = parameters.cuboids.free_space;
-    ground_plane_ = parameters.ground.plane;
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
@@ -112,11 +111,13 @@ class SegmentCloud {
     output.header = message->header;
     const granular::ObjectSegmentation segmentation = segmenter_->segment(cloud);
     if (config_.method == granular::SegmentationMethod::kObjects) {
-      if (const auto problem = granular::groundNotFound(cloud, segmentation.ground.inliers,
-                                                        ground_plane_)) {
+      const granular::GroundCheck check =
+          granular::checkGround(cloud, segmentation.ground.plane, segmentation.ground.inliers,
+                                ground_config_, message->header.frame_id);
+      if (check.verdict != granular::GroundCheck::Verdict::kGround) {
         ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: the cloud of "
                                            << message->header.stamp << " in frame '"
-                                           << message->header.frame_id << "': " << *problem);
+                                           << message->header.frame_id << "': " << check.problem);
       }
     }
     const granular::SegmentViews views(cloud, segmentation, config_, free_space_config_);
@@ -161,7 +162,6 @@ class SegmentCloud {
     }
     ground_config_.plane.sensor_height = *estimate.mount_height;
     config_.objects.azimuth_step_deg = *estimate.azimuth_step_deg;
-    ground_plane_ = ground_config_.plane;
     ROS_INFO("segment_cloud: sensor auto: mount height %.2f m (the road plane under the first "
              "cloud), azimuth step %.3f deg (returns along rings)",
              *estimate.mount_height, *estimate.azimuth_step_deg);
@@ -174,7 +174,6 @@ class SegmentCloud {
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
   std::unique_ptr<granular::CuboidFitter> fitter_;
   granular::FreeSpaceConfig free_space_config_;
-  granular::GroundPlaneConfig ground_plane_;
   granular::VehicleEvidenceConfig evidence_config_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;

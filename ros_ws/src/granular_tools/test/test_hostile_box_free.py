@@ -1,9 +1,10 @@
 """Hostile inputs through the box-free tools (fit_cuboids, evaluate_segmentation, run_cuboids,
 online.launch boxes:=segment) and the labelling documents: clouds with no points, all NaN, one
 ring, a billion-metre point; frames whose ground cannot be found (a wall filling the view, an
-empty scene, a cloud 50 m below the sensor); a detections document edited by hand into
-nonsense. Each case: exit 0 with every frame written and the culprit named, or a clear one-line
-error; nothing half written."""
+empty scene); clouds not in the sensor's frame (a cloud 50 m below the sensor, a drive shifted
+and tilted as a world frame has it); a detections document edited by hand into nonsense. Each
+case: exit 0 with every frame written and the culprit named, or a clear one-line error;
+nothing half written."""
 import json
 
 import numpy as np
@@ -38,7 +39,6 @@ def hostile_clouds():
         "one_ring": np.c_[8.6 * np.cos(angles), 8.6 * np.sin(angles), np.full(360, -2.3)],
         "billion_metres": np.vstack([ground_scene(rng), [[1e9, 0.0, 0.0]]]),
         "wall": np.c_[np.full(3000, 3.0), rng.uniform(-10, 10, 3000), rng.uniform(-2.3, 5, 3000)],
-        "50_m_below": ground_scene(rng, z=-52.3),
         "road": ground_scene(rng),
     }
 
@@ -61,9 +61,7 @@ def hostile_frames(tmp_path_factory):
     return bag, folder / "frames", stamps
 
 
-# Why each frame without ground is named; the others must not be. The cloud 50 m below the
-# sensor has a plane, 50 m too low: telling it from a real road needs the sensor's allowed
-# height (the sensor files' world-frame check, not this suite's).
+# Why each frame without ground is named; the others must not be.
 NO_GROUND = {"empty": "no points, so no ground",
              "all_nan": "all 500 points are NaN or infinite",
              "wall": "no ground plane found among 3000 points (the lowest at z = -2.30 m"}
@@ -153,6 +151,239 @@ def test_online_launch_segmenting_the_hostile_bag_names_a_frame_without_ground(h
     assert result.status == 0, str(result)
     assert_no_crash(result)
     assert "no points, so no ground" in result.output, str(result)
+
+
+# --- clouds not in the sensor's frame ---------------------------------------------------------
+
+def frames_of(folder, clouds, frame_id="velodyne"):
+    """A frames folder of `clouds` (name -> points, one frame each, a Sedan box each) whose
+    clouds and boxes are in `frame_id`; returns (folder, name -> stamp)."""
+    messages, stamps = [], {}
+    for index, (name, points) in enumerate(clouds.items()):
+        t = 0.1 * index
+        stamp = bagmaker.stamp(t)
+        stamps[name] = f"{stamp.secs}{stamp.nsecs:09d}"
+        cloud = bagmaker.cloud(t, points, index)
+        boxes = bagmaker.detections(t, ("Sedan",), index)
+        cloud.header.frame_id = boxes.header.frame_id = frame_id
+        for detection in boxes.detections:
+            detection.header.frame_id = frame_id
+        messages += [(CLOUD_TOPIC, cloud), (DETECTIONS_TOPIC, boxes)]
+    bag = bagmaker.write(folder / "frames.bag", messages)
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", folder / "frames", "--quiet"])
+    assert result.status == 0, str(result)
+    return folder / "frames", stamps
+
+
+OTHER_FRAME_TOOLS = {
+    "fit_cuboids segment": (FIT_CUBOIDS + ["--boxes", "segment", "--out"], "cuboids"),
+    "fit_cuboids detections": (FIT_CUBOIDS + ["--boxes", "detections", "--out"], "cuboids"),
+    "evaluate_segmentation": (EVALUATE_SEGMENTATION + ["--save"], "seen"),
+}
+
+
+@pytest.mark.parametrize("tool_name", sorted(OTHER_FRAME_TOOLS))
+def test_a_cloud_50_m_below_the_sensor_is_refused_naming_its_frame_and_the_remedy(tmp_path,
+                                                                                 tool_name):
+    """It was segmented above its road, 50 m too low for the sensor, without a word."""
+    rng = np.random.default_rng(1)
+    frames, stamps = frames_of(tmp_path, {"road": ground_scene(rng),
+                                          "50_m_below": ground_scene(rng, z=-52.3)})
+    command, out = OTHER_FRAME_TOOLS[tool_name]
+    result = run(command + [tmp_path / out, "--frames", frames] + SIMULATOR)
+    hostile.assert_fails_clearly(
+        result, 1, f"{stamps['50_m_below']}: the road lies at z = -52.",
+        " m under the sensor, tilted 0.0 deg, where the sensor's frame has it at z = -2.30 m",
+        "in frame 'velodyne', looks like a world or vehicle frame", "a static transform from "
+        "'velodyne' to the sensor", "--sensor auto", "--allow-other-frames")
+    assert not (tmp_path / out).exists()
+    assert leftovers(tmp_path) == []
+
+    # The override goes on, naming the frame among those without ground; the road is not named.
+    result = run(command + [tmp_path / out, "--frames", frames, "--allow-other-frames"]
+                 + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert f"{stamps['50_m_below']}: the road lies at z = -52." in result.output
+    assert f"{stamps['road']}:" not in result.output, str(result)
+    assert len(list((tmp_path / out).glob("[!.]*.json"))) == 2
+
+
+def test_run_cuboids_stops_at_a_cloud_50_m_below_the_sensor_unless_told_to_go_on(tmp_path):
+    rng = np.random.default_rng(1)
+    _, stamps = frames_of(tmp_path, {"road": ground_scene(rng),
+                                     "50_m_below": ground_scene(rng, z=-52.3)})
+    bag = tmp_path / "frames.bag"
+    result = run(RUN_CUBOIDS + ["--bag", bag, "--out", tmp_path / "run"] + SIMULATOR)
+    hostile.assert_fails_clearly(result, 1, f"{stamps['50_m_below']}: the road lies at z = -52.",
+                                 "cuboids (fit_cuboids): failed with exit status 1")
+    assert not (tmp_path / "run" / "cuboids").exists()
+    result = run(RUN_CUBOIDS + ["--bag", bag, "--out", tmp_path / "run", "--overwrite",
+                                "--allow-other-frames"] + SIMULATOR)
+    assert result.status == 0, str(result)
+    assert f"{stamps['50_m_below']}: the road lies at z = -52." in result.output
+    assert len(list((tmp_path / "run" / "cuboids").glob("[!.]*.json"))) == 2
+    assert leftovers(tmp_path) == []
+
+
+def test_online_launch_segmenting_a_cloud_50_m_below_the_sensor_warns_naming_its_frame(
+        tmp_path, drive):
+    from test_hostile_launch import LAUNCH, own_master_environment
+
+    rng = np.random.default_rng(1)
+    frames_of(tmp_path, {"50_m_below": ground_scene(rng, z=-52.3)}, frame_id="odom")
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "online.launch",
+                           f"bag:={tmp_path / 'frames.bag'}", f"models:={drive / 'knn.yml'}",
+                           "method:=knn", "boxes:=segment", "sensor_height:=2.3", "rviz:=false",
+                           "exit_when_done:=true"],
+                 env=own_master_environment(), timeout=120)
+    assert result.status == 0, str(result)
+    assert_no_crash(result)
+    assert "segment_cloud: the cloud of " in result.output, str(result)
+    assert "in frame 'odom': the road lies at z = -52." in result.output, str(result)
+    assert "a static transform from 'odom' to the sensor" in result.output
+
+
+def test_a_drive_shifted_and_tilted_as_a_world_frame_is_refused_naming_the_frame(drive,
+                                                                                tmp_path):
+    """The simulated drive's clouds as a world frame would give them: the road at z = 0 (the
+    sensor 2.3 m above it) and leaning a little more each frame; the boxes in frame 'odom'."""
+    import shutil
+
+    from granular_tools.pcd import read_pcd
+
+    frames = tmp_path / "frames"
+    shutil.copytree(drive / "frames", frames)
+    clouds = sorted((frames / "pcd").glob("[!.]*.pcd"))
+    for index, path in enumerate(clouds):
+        raw = path.read_bytes()
+        points = read_pcd(path)[1].copy()
+        pitch = np.radians(2.0 * index)
+        x, z = points["x"].astype(float), points["z"].astype(float)
+        points["x"] = np.cos(pitch) * x + np.sin(pitch) * z
+        points["z"] = -np.sin(pitch) * x + np.cos(pitch) * z + 2.3
+        data = raw.index(b"DATA binary\n") + len(b"DATA binary\n")
+        path.write_bytes(raw[:data] + points.tobytes())
+    for path in (frames / "detections_3d").glob("[!.]*.json"):
+        document = json.loads(path.read_text())
+        document["header"]["frame_id"] = "odom"
+        path.write_text(json.dumps(document))
+    first = clouds[0].stem
+    for command, out in OTHER_FRAME_TOOLS.values():
+        result = run(command + [tmp_path / out, "--frames", frames] + SIMULATOR)
+        hostile.assert_fails_clearly(result, 1, f"{first}: the road lies at z = 0.00 m under the "
+                                     "sensor", "in frame 'odom'", "a static transform from 'odom'")
+        assert not (tmp_path / out).exists()
+    # The same frames in the sensor's frame: no frame named.
+    result = run(FIT_CUBOIDS + ["--frames", drive / "frames", "--out", tmp_path / "sensor"]
+                 + SIMULATOR)
+    assert result.status == 0 and "frames without ground" not in result.output, str(result)
+    assert leftovers(tmp_path) == []
+
+
+# --- the labelling tool's fit service (fit_cuboid_server, label_cuboids' new boxes) -----------
+
+def write_xyz_pcd(path, xyz):
+    xyz = np.asarray(xyz, np.float32).reshape(-1, 3)
+    header = ("VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+              f"WIDTH {len(xyz)}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(xyz)}\n"
+              "DATA binary\n")
+    path.write_bytes(header.encode() + xyz.tobytes())
+    return path
+
+
+@pytest.fixture(scope="module")
+def fit_service(tmp_path_factory):
+    """fit_cuboid_server on its own master; yields (call(cloud_file, click) -> reply, folder)."""
+    import os
+    import subprocess
+
+    import rosgraph
+    import rospy
+    from geometry_msgs.msg import Point, Vector3
+    from granular_ros.srv import FitCuboid
+    from test_hostile_launch import own_master_environment
+
+    env = own_master_environment()
+    port = env["ROS_MASTER_URI"].rsplit(":", 1)[1]
+    master = subprocess.Popen(["rosmaster", "--core", "-p", port], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    server = subprocess.Popen(tool("granular_ros", "fit_cuboid_server"), env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    saved = os.environ.get("ROS_MASTER_URI")
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    try:
+        def service_up():  # rospy's wait_for_service needs init_node for its timeout
+            try:
+                rosgraph.Master("/hostile").lookupService("/fit_cuboid")
+                return True
+            except Exception:  # the master not up yet, or the service not registered
+                return False
+
+        hostile.wait_for(service_up, 60, "the fit service")
+        proxy = rospy.ServiceProxy("fit_cuboid", FitCuboid)
+
+        def call(cloud_file, click):
+            reply = proxy(cloud_file=str(cloud_file), click=Point(*click), label="Sedan",
+                          size=Vector3(4.5, 1.8, 1.5))
+            assert server.poll() is None, "the fit service died"
+            return reply
+
+        yield call, tmp_path_factory.mktemp("fit_service")
+    finally:
+        if saved is None:
+            os.environ.pop("ROS_MASTER_URI", None)
+        else:
+            os.environ["ROS_MASTER_URI"] = saved
+        server.terminate()
+        server.wait(timeout=20)
+        master.terminate()
+        master.wait(timeout=20)
+
+
+FIT_SERVICE_REFUSALS = {
+    "an empty cloud": ("empty", (10.0, 0.0, -1.5),
+                       "the cloud has no finite point: nothing to fit a box to"),
+    "a cloud all NaN": ("all_nan", (10.0, 0.0, -1.5),
+                        "the cloud has no finite point: nothing to fit a box to"),
+    "a NaN click": ("scene", (float("nan"), 0.0, -1.5),
+                    "the click (nan, 0, -1.5) is not finite: no box"),
+    "a click far from every point": ("scene", (1e6, 0.0, 0.0),
+                                     "the click (1e+06, 0, 0) is 999970.0 m from the nearest "
+                                     "point of the cloud, farther than click.ground_radius "
+                                     "(6.0 m): click on the cloud"),
+    "a cloud file that vanished": ("missing", (10.0, 0.0, -1.5), "cannot read: No such file or directory"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(FIT_SERVICE_REFUSALS))
+def test_the_fit_service_refuses_a_box_it_cannot_place_naming_the_file_and_the_click(
+        fit_service, case):
+    """An empty cloud, a cloud of NaN or a click away from the cloud gave a box of the class's
+    size standing at the click's own height (rviz's grid: the sensor's); a NaN click was
+    "box centre is not finite"."""
+    call, folder = fit_service
+    name, click, why = FIT_SERVICE_REFUSALS[case]
+    files = {"empty": lambda path: write_xyz_pcd(path, np.zeros((0, 3))),
+             "all_nan": lambda path: write_xyz_pcd(path, np.full((100, 3), np.nan)),
+             "scene": lambda path: write_xyz_pcd(path, ground_scene(np.random.default_rng(1))),
+             "missing": lambda path: path}
+    cloud_file = files[name](folder / f"{name}.pcd")
+    reply = call(cloud_file, click)
+    assert reply.error == f"{cloud_file}: {why}"
+    assert reply.points == 0
+
+
+def test_the_fit_service_fits_a_car_in_a_huge_cloud(fit_service):
+    """Two million points around a car: the box is fitted to the car, the service still up."""
+    call, folder = fit_service
+    rng = np.random.default_rng(4)
+    clutter = np.c_[rng.uniform(-80, 80, (2_000_000, 2)), np.full(2_000_000, -2.3)]
+    car = np.array([10.0, 0.0, -1.55]) + rng.uniform(-0.5, 0.5, (300, 3)) * [4.4, 1.8, 1.5]
+    cloud_file = write_xyz_pcd(folder / "huge.pcd", np.vstack([clutter, car]))
+    reply = call(cloud_file, (10.0, 0.0, -1.5))
+    assert reply.error == "" and reply.points > 200, reply
+    centre = reply.cuboid.bbox.position.position
+    assert abs(centre.x - 10.0) < 0.3 and abs(centre.y) < 0.3, reply
 
 
 # --- a detections document edited by hand into nonsense ---------------------------------------

@@ -501,7 +501,8 @@ def test_classify_supervised_into_a_path_under_a_regular_file_is_refused_before_
     assert (tmp_path / "notes.txt").read_text() == "mine"
 
 
-def test_a_detection_in_another_frame_than_its_cloud_is_named_and_not_cropped(drive, tmp_path):
+def test_a_detection_in_another_frame_than_its_cloud_is_refused_naming_both_frames(drive,
+                                                                                   tmp_path):
     """Boxes in frame 'map' beside clouds in the sensor's frame were cropped as if they were in
     the sensor's: objects of the wrong points, exit 0, no word."""
     frames = hostile.copy_tree(drive / "frames", tmp_path / "frames")
@@ -511,10 +512,68 @@ def test_a_detection_in_another_frame_than_its_cloud_is_named_and_not_cropped(dr
     moved["header"]["frame_id"] = "map"
     path.write_text(json.dumps(document))
     cloud_frame = document["header"]["frame_id"]
+    before = hostile.snapshot(frames)
     result = run(EXTRACT + ["--in", frames, "--out", tmp_path / "objects"])
+    assert_fails_clearly(result, 1, path, f"detection id {moved['id']} '{moved['label']}' is in "
+                         f"frame 'map', the cloud in '{cloud_frame}'", "/tf_static")
+    assert not (tmp_path / "objects").exists() and leftovers(tmp_path) == []
+    assert hostile.snapshot(frames) == before
+
+
+def test_a_detection_in_map_with_the_bags_tf_static_is_cropped_in_the_clouds_frame(tmp_path):
+    """The transform the bag gives is used: bag_to_files moves the box from 'map' into the
+    cloud's frame, and extract_objects crops the points there."""
+    from test_bag_to_files import _static_transform
+
+    rng = np.random.default_rng(2)
+    # A car of 400 points 10 m ahead of the sensor, which stands at (100, 50) in 'map'.
+    car = np.array([10.0, 0.0, -1.5]) + rng.uniform(-0.5, 0.5, (400, 3)) * [4.0, 1.8, 1.4]
+    boxes = bagmaker.detections(0.0, ("Sedan",))
+    boxes.header.frame_id = "map"
+    box = boxes.detections[0]
+    box.header.frame_id = "map"
+    box.bbox.position.position.x, box.bbox.position.position.y = 110.0, 50.0
+    box.bbox.position.position.z = -1.5
+    box.bbox.size.x, box.bbox.size.y, box.bbox.size.z = 4.2, 2.0, 1.6
+    tf_static = _static_transform("velodyne", "map", (-100.0, -50.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+    bag = bagmaker.write(tmp_path / "in.bag", [("/tf_static", tf_static),
+                                               (CLOUD_TOPIC, bagmaker.cloud(0.0, car)),
+                                               (DETECTIONS_TOPIC, boxes)],
+                         stamp=bagmaker.stamp(0.0))
+    result = run(BAG_TO_FILES + ["--bag", bag, "--out", tmp_path / "frames"])
     assert result.status == 0, str(result)
-    assert f"detection id {moved['id']} '{moved['label']}' is in frame 'map', the cloud in " \
-           f"'{cloud_frame}'" in result.output, str(result)
-    index = (tmp_path / "objects" / "index.csv").read_text()
-    assert not [row for row in index.splitlines()[1:]
-                if path.stem in row and f",{moved['id']}," in row]
+    assert "1 detections moved into the cloud's frame with tf" in result.output, str(result)
+    result = run(EXTRACT + ["--in", tmp_path / "frames", "--out", tmp_path / "objects",
+                            "--n-thresh", "10"])
+    assert result.status == 0, str(result)
+    (row,) = list(csv.DictReader((tmp_path / "objects" / "index.csv").open()))
+    assert (row["label"], row["points"]) == ("Sedan", "400")
+
+
+def test_run_fleet_with_a_bag_that_vanishes_mid_run_fails_that_bag_alone(drive, tmp_path):
+    """One worker: once the first bag's stages have begun, the other bag is deleted. That bag
+    fails naming its path; the first is done; the ledger and report say which."""
+    import shutil
+
+    bags = tmp_path / "bags"
+    bags.mkdir()
+    for name in ("first", "second"):
+        shutil.copyfile(drive / "drive.bag", bags / f"{name}.bag")
+    out = tmp_path / "out"
+    process = hostile.start(hostile.tool("granular_tools", "run_fleet") + [
+        "--bags", bags / "*.bag", "--out", out, "--workers", "1", "--n-thresh", "10",
+        "--methods", "ndt", "--supervised", "svm"])
+    try:
+        hostile.wait_for(lambda: any((out / "bags" / name / "log.txt").exists()
+                                     for name in ("first", "second")), 120, "a bag's stages")
+        started = "first" if (out / "bags" / "first" / "log.txt").exists() else "second"
+        vanished = "second" if started == "first" else "first"
+        (bags / f"{vanished}.bag").unlink()
+    finally:
+        result = hostile.finish(process, timeout=240)
+    assert_fails_clearly(result, 1, f"{vanished} failed: objects:", bags / f"{vanished}.bag",
+                         "No such file or directory")
+    ledger = json.loads((out / "fleet.json").read_text())["bags"]
+    assert (ledger[started]["status"], ledger[vanished]["status"]) == ("done", "failed")
+    assert "## Failed bags" in (out / "index.md").read_text()
+    assert leftovers(tmp_path) == [] and (bags / f"{started}.bag").exists()

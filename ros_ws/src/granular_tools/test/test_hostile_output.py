@@ -1,6 +1,7 @@
 """Hostile inputs, output safety: a tool never deletes a user's files, never leaves half-written
 output under a final name (full disk, signals, a dead run's staging), and refuses a second run
 into a folder that one is writing. Each case runs the built tool as a user would."""
+import json
 import os
 import pathlib
 import shutil
@@ -143,6 +144,36 @@ def test_a_folder_writer_on_a_full_disk_fails_and_leaves_nothing(drive, tmp_path
         result = run(folder_writers(drive)[writer](disk / "out"))
         assert_fails_clearly(result, 1, disk)
         assert hostile.files_on(disk) == []
+
+
+FLEET = hostile.tool("granular_tools", "run_fleet")
+FLEET_OPTIONS = ["--workers", "1", "--n-thresh", "10", "--methods", "ndt", "--supervised", "svm"]
+
+
+def test_run_fleet_into_a_full_disk_fails_and_leaves_nothing(drive, tmp_path):
+    with hostile.full_disk(tmp_path / "disk") as disk:
+        result = run(FLEET + ["--bags", drive / "drive.bag", "--out", disk / "out"]
+                     + FLEET_OPTIONS)
+        assert_fails_clearly(result, 1, disk / "out", "No space left on device")
+        assert hostile.files_on(disk) == []
+
+
+def test_run_fleet_filling_the_disk_mid_run_names_the_bag_and_keeps_the_users_files(
+        drive, tmp_path):
+    """Room for the fleet's ledger, not for a bag's objects: the bag fails naming the full
+    disk, the ledger and report say so, no staging is left, the user's files are intact."""
+    with hostile.full_disk(tmp_path / "disk", size="1m") as disk:
+        os.truncate(disk / "filler", 400 * 1024)  # some 600 KB free
+        mine = hostile.user_folder(disk / "mine")
+        before = snapshot(mine)
+        result = run(FLEET + ["--bags", drive / "drive.bag", "--out", disk / "out"]
+                     + FLEET_OPTIONS)
+        assert_fails_clearly(result, 1, "drive failed: objects:", "No space left on device")
+        ledger = json.loads((disk / "out" / "fleet.json").read_text())
+        assert ledger["bags"]["drive"]["status"] == "failed"
+        assert "No space left on device" in ledger["bags"]["drive"]["message"]
+        assert "## Failed bags" in (disk / "out" / "index.md").read_text()
+        assert leftovers(disk) == [] and snapshot(mine) == before
 
 
 @pytest.mark.parametrize("classifier", ["registration", "supervised"])

@@ -4,7 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #include "levelled_object.h"
 
@@ -40,6 +44,30 @@ ClickedCuboid fitCuboidAtClick(const std::vector<Eigen::Vector3d>& cloud,
                                const SizePrior& size, const CuboidConfig& config) {
   validate(config);
   const ClickConfig& settings = config.click;
+  char where[160];
+  std::snprintf(where, sizeof(where), "the click (%g, %g, %g)", click.x(), click.y(), click.z());
+  if (!click.allFinite()) {
+    throw std::invalid_argument(std::string(where) + " is not finite: no box");
+  }
+  // Without a point within ground_radius the road's height would be the click's own, and a
+  // box there (a click on rviz's grid far from the cloud) nonsense.
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& point : cloud) {
+    if (point.allFinite()) {
+      nearest = std::min(nearest, horizontalDistance(point, click));
+    }
+  }
+  if (!std::isfinite(nearest)) {
+    throw std::invalid_argument("the cloud has no finite point: nothing to fit a box to");
+  }
+  if (nearest > settings.ground_radius) {
+    char text[300];
+    std::snprintf(text, sizeof(text),
+                  "%s is %.1f m from the nearest point of the cloud, farther than "
+                  "click.ground_radius (%.1f m): click on the cloud",
+                  where, nearest, settings.ground_radius);
+    throw std::invalid_argument(text);
+  }
   const double ground = groundUnder(cloud, click, settings);
   GroundPlane road;
   road.offset = -ground;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <vector>
 
 namespace granular {
 
@@ -86,6 +87,74 @@ std::optional<std::string> groundNotFound(const Cloud& cloud, std::size_t inlier
                 "filled by a wall?",
                 finite, lowest, config.sensor_height);
   return std::string(text);
+}
+
+namespace {
+
+// The plane under the lowest returns of `cloud`, wherever they lie and leaning up to
+// search_tilt_deg; nullopt when fewer than min_inliers seeds hold one.
+std::optional<GroundPlane> planeAnywhere(const Cloud& cloud, const GroundConfig& config) {
+  std::vector<float> z;
+  for (const PointXYZIT& point : cloud.points) {
+    if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
+      z.push_back(point.z);
+    }
+  }
+  if (z.empty()) {
+    return std::nullopt;
+  }
+  // The seed band over the lowest 5 % of the returns, as sensor:=auto places it.
+  const auto low = z.begin() + static_cast<std::ptrdiff_t>((z.size() - 1) / 20);
+  std::nth_element(z.begin(), low, z.end());
+  GroundPlaneConfig search = config.plane;
+  search.sensor_height = std::max(0.01, -static_cast<double>(*low));
+  search.eps_angle_deg = config.sensor_frame.search_tilt_deg;
+  std::size_t inliers = 0;
+  const GroundPlane plane = estimateGroundPlane(cloud, search, nullptr, &inliers);
+  if (inliers < config.sensor_frame.min_inliers) {
+    return std::nullopt;
+  }
+  return plane;
+}
+
+}  // namespace
+
+GroundCheck checkGround(const Cloud& cloud, const GroundPlane& plane, std::size_t inliers,
+                        const GroundConfig& config, const std::string& frame_id) {
+  const SensorFrameCheckConfig& check = config.sensor_frame;
+  // Few or no seeds on the plane found near -sensor_height: the road may lie elsewhere (a
+  // world frame's road at z = 0, or one leaning beyond plane.eps_angle_deg).
+  const std::optional<GroundPlane> road =
+      inliers >= check.min_inliers ? std::optional<GroundPlane>(plane)
+                                   : planeAnywhere(cloud, config);
+  const auto off = [&](const GroundPlane& found) {
+    return std::abs(found.zUnderSensor() + config.plane.sensor_height) > check.height_tolerance ||
+           found.tiltDeg() > check.max_tilt_deg;
+  };
+  if (road && off(*road)) {
+    const std::string quoted = "'" + frame_id + "'";
+    const std::string frame = frame_id.empty() ? "a frame not recorded" : "frame " + quoted;
+    char text[900];
+    std::snprintf(
+        text, sizeof(text),
+        "the road lies at z = %.2f m under the sensor, tilted %.1f deg, where the sensor's "
+        "frame has it at z = -%.2f m (sensor_height; within %.2f m, "
+        "ground sensor_frame.height_tolerance) and level (within %.1f deg, "
+        "sensor_frame.max_tilt_deg): the cloud, in %s, looks like a world or vehicle frame, not "
+        "the sensor's. Give clouds in the sensor's frame (a static transform from %s to the "
+        "sensor, e.g. tf2_ros static_transform_publisher, and the clouds moved into it), or the "
+        "sensor that took them (sensor:=NAME; --sensor NAME, or --sensor auto)",
+        // Rounded to the printed centimetre first, so that a road at -0.001 m reads 0.00.
+        std::round(road->zUnderSensor() * 100.0) / 100.0 + 0.0, road->tiltDeg(),
+        config.plane.sensor_height, check.height_tolerance,
+        check.max_tilt_deg, frame.c_str(),
+        frame_id.empty() ? "the clouds' frame" : quoted.c_str());
+    return {GroundCheck::Verdict::kNotSensorFrame, text};
+  }
+  if (const auto problem = groundNotFound(cloud, inliers, config.plane)) {
+    return {GroundCheck::Verdict::kNotFound, *problem};
+  }
+  return {};
 }
 
 }  // namespace granular

@@ -266,21 +266,21 @@ ExtractFolderSummary extractFolder(const fs::path& in, const fs::path& out,
       }
     }
     // A box in another frame than the cloud's (the file's header) would be cropped as if it
-    // were in the cloud's: refused, both frames named.
-    const auto foreign = std::remove_if(detections.begin(), detections.end(), [&](const Detection&
-                                                                                    detection) {
-      if (detection.frame_id.empty() || header.frame_id.empty() ||
-          detection.frame_id == header.frame_id) {
-        return false;
+    // were in the cloud's: the run is refused, both frames named. Boxes are moved into the
+    // cloud's frame where the transform is known: bag_to_files, with the bag's /tf and
+    // /tf_static.
+    for (const Detection& detection : detections) {
+      if (!detection.frame_id.empty() && !header.frame_id.empty() &&
+          detection.frame_id != header.frame_id) {
+        throw std::runtime_error(
+            json_file.string() + ": detection id " + std::to_string(detection.id) + " '" +
+            detection.label + "' is in frame '" + detection.frame_id + "', the cloud in '" +
+            header.frame_id + "' (the file's header.frame_id): its crop would be of the wrong "
+            "points. Move the boxes into the cloud's frame first: bag_to_files does, with the "
+            "bag's /tf or /tf_static (record the transform from '" + detection.frame_id +
+            "' to '" + header.frame_id + "' in the bag, e.g. tf2_ros static_transform_publisher)");
       }
-      summary.invalid_detections.push_back(
-          json_file.string() + ": detection id " + std::to_string(detection.id) + " '" +
-          detection.label + "' is in frame '" + detection.frame_id + "', the cloud in '" +
-          header.frame_id + "' (the file's header.frame_id); skipped: move it into the cloud's "
-          "frame first (bag_to_files does, with the bag's /tf)");
-      return true;
-    });
-    detections.erase(foreign, detections.end());
+    }
     const Cloud cloud = readPcd(pcd_folder / (stamp + ".pcd"));
     if (segmenter) {
       for (const std::string& problem :

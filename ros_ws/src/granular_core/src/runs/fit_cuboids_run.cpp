@@ -272,10 +272,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     if (options.boxes == CuboidInputs::kSegments) {
       segmentation = segmenter.segment(cloud);
       if (options.segmentation.method == SegmentationMethod::kObjects) {
-        if (const auto problem =
-                groundNotFound(cloud, segmentation.ground.inliers, options.ground.plane)) {
-          summary.ground_not_found.push_back(stamp + ": " + *problem);
-        }
+        runs::checkFrameGround(cloud, segmentation.ground.plane, segmentation.ground.inliers,
+                               options.ground, header.frame_id, stamp,
+                               options.allow_other_frames, summary.ground_not_found);
       }
       segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
       if (options.classifier == nullptr && config.evidence.enabled &&
@@ -316,9 +315,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       std::size_t inliers = 0;
       const GroundPlane ground =
           estimateGroundPlane(cloud, options.ground.plane, nullptr, &inliers);
-      if (const auto problem = groundNotFound(cloud, inliers, options.ground.plane)) {
-        summary.ground_not_found.push_back(stamp + ": " + *problem);
-      }
+      runs::checkFrameGround(cloud, ground, inliers, options.ground, header.frame_id, stamp,
+                             options.allow_other_frames, summary.ground_not_found);
       free_space.emplace(cloud, ground, config.free_space);
       const Eigen::Vector3d margin = Eigen::Vector3d::Constant(config.detections.margin);
       for (std::size_t d = 0; d < detections.size(); ++d) {

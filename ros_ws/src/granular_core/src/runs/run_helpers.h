@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "granular_core/ground/ground.h"
+
 namespace granular {
 namespace runs {
 
@@ -59,6 +61,25 @@ inline void reportList(std::ostream& log, const char* title,
   }
   if (lines.size() > kShown) {
     log << "  ... and " << lines.size() - kShown << " more\n";
+  }
+}
+
+/// checkGround on one frame of an offline run ("<stamp>: <why>" lines). A frame without ground
+/// is added to `not_found`. A cloud not in the sensor's frame stops the run (std::runtime_error
+/// naming the stamp; its output is never put in place): every frame above such a road would be
+/// nonsense. With `allow_other_frames` (the tools' --allow-other-frames) it is added to
+/// `not_found` instead and the run goes on.
+inline void checkFrameGround(const Cloud& cloud, const GroundPlane& plane, std::size_t inliers,
+                             const GroundConfig& config, const std::string& frame_id,
+                             const std::string& stamp, bool allow_other_frames,
+                             std::vector<std::string>& not_found) {
+  const GroundCheck check = checkGround(cloud, plane, inliers, config, frame_id);
+  if (check.verdict == GroundCheck::Verdict::kNotSensorFrame && !allow_other_frames) {
+    throw std::runtime_error(stamp + ": " + check.problem +
+                             "; --allow-other-frames goes on, with a warning per frame");
+  }
+  if (check.verdict != GroundCheck::Verdict::kGround) {
+    not_found.push_back(stamp + ": " + check.problem);
   }
 }
 

@@ -145,9 +145,9 @@ SegmentationEvaluation evaluateSegmentation(const fs::path& frames, const Ground
     const auto start = std::chrono::steady_clock::now();
     const ObjectSegmentation result = segmenter.segment(cloud);
     if (config.method == SegmentationMethod::kObjects) {
-      if (const auto problem = groundNotFound(cloud, result.ground.inliers, ground.plane)) {
-        evaluation.ground_not_found.push_back(stem + ": " + *problem);
-      }
+      runs::checkFrameGround(cloud, result.ground.plane, result.ground.inliers, ground,
+                             header.frame_id, stem, options.allow_other_frames,
+                             evaluation.ground_not_found);
     }
     const std::vector<Segment>& segments = result.segments;
     // The boxes scored and saved: the segments' own, or the cuboids fitted to them.

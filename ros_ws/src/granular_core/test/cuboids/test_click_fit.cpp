@@ -2,7 +2,9 @@
 // apart from its neighbours, its geometric fit with the clicked class's size, and the class's
 // size where there is nothing to fit.
 #include <cmath>
+#include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -100,11 +102,32 @@ TEST(ClickFitTest, TooFewPointsGiveTheClassSizeOnTheRoadAtTheClick) {
   EXPECT_NEAR(box.yaw(), 0.0, 1e-12);
 }
 
-TEST(ClickFitTest, AClickWithNoCloudAroundStandsTheBoxAtTheClick) {
-  const ClickedCuboid clicked = fitCuboidAtClick({}, Eigen::Vector3d(5.0, 1.0, -1.0), "Car",
-                                                 kCar, CuboidConfig());
-  EXPECT_EQ(clicked.ground, -1.0);
-  EXPECT_NEAR(clicked.cuboid.box.centre().z(), -1.0 + 0.75, 1e-12);
+// A box needs the road under the click: without a point within click.ground_radius its height
+// would be the click's own (rviz's grid, z = 0, puts it at the sensor's height). Refused, naming
+// the click; a click that is not finite too.
+TEST(ClickFitTest, AClickAwayFromTheCloudOrNotFiniteIsRefusedNamingIt) {
+  const auto refusal = [](const std::vector<Eigen::Vector3d>& cloud, const Eigen::Vector3d& click) {
+    try {
+      fitCuboidAtClick(cloud, click, "Car", kCar, CuboidConfig());
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what());
+    }
+    return std::string("no refusal");
+  };
+  const StandingBox car{{12.0, 0.0}, 0.0, {4.5, 1.8, 1.5}};
+  EXPECT_EQ(refusal({}, Eigen::Vector3d(5.0, 1.0, -1.0)),
+            "the cloud has no finite point: nothing to fit a box to");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(refusal({Eigen::Vector3d(nan, 0.0, 0.0)}, Eigen::Vector3d(5.0, 1.0, -1.0)),
+            "the cloud has no finite point: nothing to fit a box to");
+  EXPECT_EQ(refusal(frame({car}), Eigen::Vector3d(nan, 0.0, 0.0)),
+            "the click (nan, 0, 0) is not finite: no box");
+  const std::string far = refusal(frame({car}), Eigen::Vector3d(1e6, 0.0, 0.0));
+  EXPECT_EQ(far.find("the click (1e+06, 0, 0) is "), 0u) << far;
+  EXPECT_NE(far.find(" m from the nearest point of the cloud, farther than click.ground_radius "
+                     "(6.0 m): click on the cloud"),
+            std::string::npos)
+      << far;
 }
 
 TEST(ClickFitTest, BadSettingsAreRefused) {

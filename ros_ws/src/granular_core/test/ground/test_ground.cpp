@@ -165,6 +165,71 @@ TEST(GroundTest, AFrameWithoutGroundIsToldWhy) {
   EXPECT_FALSE(groundNotFound(cloud, 40, config));
 }
 
+// A road every 0.4 m out to 40 m whose z straight under the sensor is `z0`, leaning by
+// `tilt_deg` about the y axis (downhill ahead).
+Cloud roadAt(double z0, double tilt_deg) {
+  Cloud cloud;
+  for (double x = -40.0; x <= 40.0; x += 0.4) {
+    for (double y = -40.0; y <= 40.0; y += 0.4) {
+      const double z = z0 - x * std::tan(tilt_deg * kDeg);
+      cloud.push_back(PointXYZIT(static_cast<float>(x), static_cast<float>(y),
+                                 static_cast<float>(z), 0, 0.0));
+    }
+  }
+  return cloud;
+}
+
+GroundCheck checkRoad(const Cloud& cloud, const GroundConfig& config) {
+  const GroundEstimate estimate = estimateGround(cloud, config);
+  return checkGround(cloud, estimate.plane, estimate.inliers, config, "map");
+}
+
+// A cloud in a world frame: its road 50 m below the sensor, at the sensor's height (z = 0), or
+// leaning 15 deg is named with the frame and the remedies; a road where the sensor file puts
+// it is not, and a wall filling the view is a frame without ground, not another frame.
+TEST(GroundTest, ARoadWhereTheSensorsFrameCannotHaveItIsNamed) {
+  GroundConfig config;
+  config.plane.sensor_height = 1.8;
+  EXPECT_EQ(checkRoad(roadAt(-1.8, 0.0), config).verdict, GroundCheck::Verdict::kGround);
+  EXPECT_EQ(checkRoad(roadAt(-2.5, 5.0), config).verdict, GroundCheck::Verdict::kGround);
+
+  const GroundCheck below = checkRoad(roadAt(-51.8, 0.0), config);
+  EXPECT_EQ(below.verdict, GroundCheck::Verdict::kNotSensorFrame);
+  EXPECT_EQ(below.problem.find("the road lies at z = -51.80 m under the sensor, tilted 0.0 deg, "
+                               "where the sensor's frame has it at z = -1.80 m"),
+            0u)
+      << below.problem;
+  EXPECT_NE(below.problem.find("the cloud, in frame 'map', looks like a world or vehicle frame"),
+            std::string::npos);
+  EXPECT_NE(below.problem.find("static transform from 'map'"), std::string::npos);
+  EXPECT_NE(below.problem.find("--sensor auto"), std::string::npos);
+
+  const GroundCheck world = checkRoad(roadAt(0.0, 0.0), config);
+  EXPECT_EQ(world.verdict, GroundCheck::Verdict::kNotSensorFrame);
+  EXPECT_EQ(world.problem.find("the road lies at z = 0.00 m under the sensor"), 0u)
+      << world.problem;
+
+  const GroundCheck tilted = checkRoad(roadAt(-1.8, 15.0), config);
+  EXPECT_EQ(tilted.verdict, GroundCheck::Verdict::kNotSensorFrame);
+  EXPECT_EQ(tilted.problem.find("the road lies at z = -1.80 m under the sensor, tilted 15.0 deg"),
+            0u)
+      << tilted.problem;
+
+  // Tolerances the user widened: the ground stage's own (RANSAC) and the check's.
+  config.plane.eps_angle_deg = 20.0;
+  config.sensor_frame.max_tilt_deg = 20.0;
+  EXPECT_EQ(checkRoad(roadAt(-1.8, 15.0), config).verdict, GroundCheck::Verdict::kGround);
+
+  Cloud wall;
+  for (double y = -10.0; y <= 10.0; y += 0.05) {
+    for (double z = -1.8; z <= 5.0; z += 0.05) {
+      wall.push_back(PointXYZIT(3.0f, static_cast<float>(y), static_cast<float>(z), 0, 0.0));
+    }
+  }
+  const GroundCheck walled = checkRoad(wall, GroundConfig());
+  EXPECT_EQ(walled.verdict, GroundCheck::Verdict::kNotFound) << walled.problem;
+}
+
 TEST(GroundTest, ValidateNamesTheField) {
   const auto expectRefused = [](const std::function<void(GroundConfig&)>& change,
                                 const std::string& named) {

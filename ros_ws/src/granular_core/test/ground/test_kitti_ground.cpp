@@ -47,13 +47,17 @@ TEST(KittiGroundTest, EachFramesPlaneMatchesThePublishedPlaneAndTheRoadReturns) 
     const Cloud cloud = testing_kitti::readVelodyne(testing_kitti::kFixture / "velodyne" /
                                                     (std::string(frame) + ".bin"));
     const auto [normal, offset] = testing_kitti::roadPlane(frame);
-    const GroundPlane plane = estimateGroundPlane(cloud, GroundPlaneConfig());
+    std::size_t inliers = 0;
+    const GroundPlane plane = estimateGroundPlane(cloud, GroundPlaneConfig(), nullptr, &inliers);
     const double angle = std::acos(std::min(1.0, plane.normal.dot(normal))) * 180.0 / M_PI;
     const double height = plane.zUnderSensor() - (-offset / normal.z());
     const double road = medianRoadHeight(cloud, plane);
     EXPECT_LT(angle, 1.0);
     EXPECT_LT(std::abs(height), 0.06);
     EXPECT_LT(std::abs(road), 0.03);
+    // A real sensor-frame cloud is never taken for a world frame.
+    EXPECT_EQ(checkGround(cloud, plane, inliers, GroundConfig(), "velodyne").verdict,
+              GroundCheck::Verdict::kGround);
     std::printf("[ frame %s ] angle %.2f deg, height %+.3f m, road returns %+.3f m\n", frame,
                 angle, height, road);
   }

@@ -401,13 +401,16 @@ def claimed_folder(target, tool, overwrite=True, hint=None):
     _make_parent(target)
     lock = _Lock(target, tool)
     try:
-        if os.path.lexists(target):
+        created = not os.path.lexists(target)
+        if not created:
             check_output_folder(target, overwrite, hint)
         try:
             os.makedirs(target, exist_ok=True)
             if _manifest_tool(target) is None:
                 write_file(os.path.join(target, MANIFEST), _manifest(tool), "manifest")
         except OSError as error:
+            if created:  # made here a moment ago (a full disk): not left behind empty
+                shutil.rmtree(target, ignore_errors=True)
             if isinstance(error, OutputError):
                 raise
             raise OutputError(f"{target}: cannot create the folder: {error.strerror}") from error

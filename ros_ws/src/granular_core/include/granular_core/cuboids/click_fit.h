@@ -28,7 +28,9 @@ struct ClickedCuboid {
 /// 3. The box: GeometricCuboidFitter with `size` as the only prior, so that a face seen alone
 ///    grows away from the sensor to the class's length or width.
 /// With fewer than click.min_points object points, the box has `size`, stands on the road,
-/// is centred on the click and heads along x. Validates `config` (std::invalid_argument).
+/// is centred on the click and heads along x. Validates `config`; throws std::invalid_argument
+/// for a click that is not finite, a cloud without a finite point, or a click farther than
+/// click.ground_radius (x-y) from every point (each message names the click).
 ClickedCuboid fitCuboidAtClick(const std::vector<Eigen::Vector3d>& cloud,
                                const Eigen::Vector3d& click, const std::string& label,
                                const SizePrior& size, const CuboidConfig& config);

@@ -118,6 +118,31 @@ struct config::EnumNames<GroundModel> {
       {{GroundModel::kPlane, "plane"}, {GroundModel::kLines, "lines"}}};
 };
 
+/// Whether a frame's road is where the sensor's frame puts it: sensor_height below the origin,
+/// about level. A cloud in a world or vehicle frame (PandaSet's export) has its road far from
+/// there and tilting from frame to frame; segments and cuboids found above it are nonsense.
+struct SensorFrameCheckConfig {
+  /// m: most the road's z straight under the sensor may differ from -sensor_height.
+  double height_tolerance = 1.0;
+  /// deg: most the road's normal may lean from the sensor's z axis (a 14% grade under a level
+  /// car; RANSAC itself accepts up to plane.eps_angle_deg).
+  double max_tilt_deg = 8.0;
+  /// deg: with no road near -sensor_height, a plane is sought again under the cloud's lowest
+  /// returns, leaning up to this, to tell a cloud in another frame from a wall or an empty view.
+  double search_tilt_deg = 45.0;
+  /// Seeds a plane must hold to be taken as a road by this check (a wall's foot holds few).
+  std::size_t min_inliers = 50;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("height_tolerance", self.height_tolerance, positive("m"));
+    visit("max_tilt_deg", self.max_tilt_deg, interval(0, 90, "deg", true, true));
+    visit("search_tilt_deg", self.search_tilt_deg, interval(0, 90, "deg", true, true));
+    visit("min_inliers", self.min_inliers, atLeast(3, "seeds"));
+  }
+};
+
 /// The ground stage: the plane, then each point's height above the ground. The plane is the
 /// default: on the KITTI frames the segmentation finds the same objects with fewer false
 /// segments above it than above the lines, in 70% of the time (docs/ground.md).
@@ -127,6 +152,7 @@ struct GroundConfig {
   GroundLinesConfig lines;
   /// m: points lower than this above the ground are ground.
   double ground_height = 0.2;
+  SensorFrameCheckConfig sensor_frame;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -134,6 +160,7 @@ struct GroundConfig {
     visit("plane", self.plane);
     visit("lines", self.lines);
     visit("ground_height", self.ground_height, config::positive("m"));
+    visit("sensor_frame", self.sensor_frame);
   }
 };
 
@@ -173,5 +200,24 @@ GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config = {
 /// world frame) or a wrong sensor_height.
 std::optional<std::string> groundNotFound(const Cloud& cloud, std::size_t inliers,
                                           const GroundPlaneConfig& config);
+
+/// What the ground stage's result says of a frame (checkGround).
+struct GroundCheck {
+  enum class Verdict {
+    kGround,          ///< a road where the sensor's frame puts it
+    kNotFound,        ///< no road (groundNotFound's reasons)
+    kNotSensorFrame,  ///< a road, but too far from -sensor_height or too tilted (sensor_frame)
+  };
+  Verdict verdict = Verdict::kGround;
+  std::string problem;  ///< why, for a warning or an error (empty for kGround)
+};
+
+/// Judges a frame's ground: `plane` and `inliers` as the ground stage found them in `cloud`,
+/// `frame_id` the cloud's frame (named in the problem, with the remedies). With no plane near
+/// -sensor_height (fewer than sensor_frame.min_inliers seeds on it), one is sought anywhere
+/// under the cloud (sensor_frame.search_tilt_deg): found and out of tolerance, the cloud is in
+/// another frame; otherwise, with no plane at all, the frame has no ground (groundNotFound).
+GroundCheck checkGround(const Cloud& cloud, const GroundPlane& plane, std::size_t inliers,
+                        const GroundConfig& config, const std::string& frame_id);
 
 }  // namespace granular

@@ -82,8 +82,8 @@ struct ExtractFolderSummary {
 /// end, so a failure or a signal leaves `out` as it was. A file without its partner is
 /// reported, not fatal. Throws std::invalid_argument for a bad config and std::runtime_error
 /// (naming the file or folder) for missing input folders, a folder without a single pair,
-/// unreadable input files, an `out` that may not be replaced (see checkOutputFolder), and
-/// write failures.
+/// unreadable input files, a detection whose header.frame_id is not its file's (the cloud's,
+/// both named), an `out` that may not be replaced (see checkOutputFolder), and write failures.
 ExtractFolderSummary extractFolder(const std::filesystem::path& in,
                                    const std::filesystem::path& out,
                                    const ExtractionConfig& config,

@@ -39,6 +39,10 @@ struct FitCuboidsOptions {
   /// The ground stage (both inputs: its road plane is the ground under the objects);
   /// config/ground.yaml.
   GroundConfig ground;
+  /// Whether a cloud whose road is not where the sensor's frame puts it (checkGround: a world
+  /// or vehicle frame) is only named among the frames without ground; otherwise it stops the
+  /// run with an error naming the frame and the remedies, and nothing is written.
+  bool allow_other_frames = false;
   /// The segmentation (kSegments); config/segmentation.yaml.
   SegmentationStageConfig segmentation;
   /// The Background decision (kSegments): a classifier trained with Background objects; the

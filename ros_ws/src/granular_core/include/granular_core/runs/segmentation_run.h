@@ -32,6 +32,10 @@ struct SegmentationEvaluationOptions {
   /// measures the whole box-free chain. Null: the segments' own boxes.
   const CuboidFitter* cuboids = nullptr;
   FreeSpaceConfig free_space;
+  /// Whether a cloud whose road is not where the sensor's frame puts it (checkGround) is only
+  /// named among the frames without ground; otherwise it stops the evaluation (an error naming
+  /// the frame and the remedies; nothing saved).
+  bool allow_other_frames = false;
   /// A folder to write what the segmentation saw into, for pictures and inspection (empty:
   /// none): per frame `<stamp>.json`, the segments' boxes (or cuboids) as detections (label
   /// `unknown`, or the classifier's), and `<stamp>.pcd`, the cloud's x y z with each point's `height` above the

@@ -47,6 +47,7 @@ class CuboidsRun(ConfigFolder):
     name_with: str = None       # the classifier that names each cuboid (NAME_METHODS) ...
     name_models: str = None     # ... its models folder or classifier file ...
     class_models: str = None    # ... and, for svm_fitness, the models it learnt from
+    allow_other_frames: bool = False  # fit_cuboids goes on past clouds not in the sensor's frame
     overwrite: bool = False
 
     def folder(self, name):
@@ -92,10 +93,11 @@ class CuboidsRun(ConfigFolder):
 
 
 def cuboids_stage(run):
-    run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
-                         run.method, run.models, run.classifier, run.track,
-                         (run.name_with, run.name_models, run.class_models)),
-             "cuboids (fit_cuboids)")
+    command = fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
+                          run.method, run.models, run.classifier, run.track,
+                          (run.name_with, run.name_models, run.class_models))
+    command += ["--allow-other-frames"] if run.allow_other_frames else []
+    run_tool(command, "cuboids (fit_cuboids)")
 
 
 def report_stage(run):
@@ -173,6 +175,10 @@ def main(argv=None):
                              "segmentation.yaml, tracking.yaml (default: the tools' built-in "
                              "defaults)")
     add_sensor_options(parser)
+    parser.add_argument("--allow-other-frames", action="store_true",
+                        help="fit_cuboids goes on past clouds whose road is not where the "
+                             "sensor's frame puts it (a world frame), naming each; without it "
+                             "the first stops the run (docs/ground.md)")
     parser.add_argument("--max-range", default="", metavar="M",
                         help="report: only truths within M metres of the sensor")
     parser.add_argument("--min-points", default="", metavar="N",
@@ -197,7 +203,8 @@ def main(argv=None):
             max_range=positive_number(args.max_range, "max_range"),
             min_points=positive_number(args.min_points, "min_points", int),
             labels=tuple(label for label in args.labels.split(",") if label),
-            track=args.track, name_with=args.name_with or None,
+            track=args.track, allow_other_frames=args.allow_other_frames,
+            name_with=args.name_with or None,
             name_models=resolve(args.name_models or None, args.relative_to),
             class_models=resolve(args.class_models or None, args.relative_to),
             overwrite=args.overwrite)

@@ -292,7 +292,7 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
     return VehicleVerdict::kNotASurface;
   }
   const bool tall = cues.top > config_.max_car_top;
-  if (!tall && cues.seen_length > config_.max_car_length) {
+  if (cues.seen_length > config_.max_car_length && cues.top < config_.min_long_top) {
     return VehicleVerdict::kTooLong;
   }
   if (tall && (cues.clear_share < config_.tall_clear_share ||

@@ -110,6 +110,30 @@ TEST(VehicleEvidenceTest, TallObjectsStandingOnTheRoadAreNoVehicles) {
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
+TEST(VehicleEvidenceTest, ALongHedgeBehindAParkedCarIsNoTruck) {
+  // KITTI 000000's hedge line: 7 m long and 2.4 m tall, 22 m away, a parked car before it
+  // hiding its foot, so that its lowest returns stand high as a truck's body would.
+  const Block hedge{{22.0, -3.5, -kSensorHeight}, {22.8, 3.5, -kSensorHeight + 2.4}, 0.0};
+  const Block parked{{17.0, -2.2, -kSensorHeight}, {18.8, 2.3, -kSensorHeight + 1.5}, 0.0};
+  const Cloud cloud = scan({hedge, parked});
+  VehicleVerdict verdict;
+  VehicleCues cues = measured(cloud, hedge, verdict);
+  EXPECT_GT(cues.top, 2.2);             // taller than a car ...
+  EXPECT_GE(cues.clear_share, 0.5);     // ... seemingly clear of the road ...
+  EXPECT_GT(cues.seen_length, 6.5);     // ... and longer than one
+  EXPECT_EQ(verdict, VehicleVerdict::kTooLong) << verdictName(verdict);
+  // Long vehicles only as tall as a car's roof rack passed before min_long_top.
+  VehicleEvidenceConfig car_tall;
+  car_tall.min_long_top = car_tall.max_car_top;
+  measured(cloud, hedge, verdict, car_tall);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+  // A box truck as long, 3.2 m tall with its body 0.6 m clear of the road, is one.
+  const Block truck{{30.0, -3.5, -kSensorHeight + 0.6}, {32.4, 3.5, -kSensorHeight + 3.2}, 0.0};
+  cues = measured(scan({truck}), truck, verdict);
+  EXPECT_GE(cues.top, 2.6);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
 TEST(VehicleEvidenceTest, SmallAndLowThingsAreNoVehicles) {
   const Block post{{9.0, 1.0, -kSensorHeight}, {9.3, 1.3, -kSensorHeight + 1.5}, 0.0};
   VehicleVerdict verdict;

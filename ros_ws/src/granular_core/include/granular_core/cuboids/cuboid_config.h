@@ -207,7 +207,10 @@ struct VehicleEvidenceConfig {
   /// of the road (below).
   double max_car_top = 2.2;
   double max_top = 4.2;          ///< m: no road vehicle is taller
-  double max_car_length = 5.5;   ///< m: a longer side no taller than max_car_top is no car
+  double max_car_length = 5.5;   ///< m: a longer side is no car ...
+  /// m: ... and is kept only as a truck or bus at least this tall (box trucks and buses stand
+  /// about 3 m): lower, it is a hedge, a fence or a wall, whose top may pass max_car_top.
+  double min_long_top = 2.6;
   /// m: a tall object's body returns lie this near its faces: a truck's box or a bus's side is
   /// flat (a hedge or a tree row is not).
   double tall_max_face_distance = 0.1;
@@ -255,6 +258,7 @@ struct VehicleEvidenceConfig {
     visit("max_car_top", self.max_car_top, positive("m"));
     visit("max_top", self.max_top, positive("m"));
     visit("max_car_length", self.max_car_length, positive("m"));
+    visit("min_long_top", self.min_long_top, positive("m"));
     visit("tall_max_face_distance", self.tall_max_face_distance, positive("m"));
     visit("tall_body_min", self.tall_body_min, nonNegative("m"));
     visit("tall_body_max", self.tall_body_max, positive("m"));

@@ -45,7 +45,7 @@ enum class VehicleVerdict : std::uint8_t {
   kNotASurface,     ///< max_face_distance: returns spread through a volume (bushes)
   kTallOnTheRoad,   ///< taller than max_car_top, standing on the road or no flat box face
   kFlatTop,         ///< a long side with a level top (walls, fences, hedges)
-  kTooLong,         ///< longer than a car and no taller (hedges, fences)
+  kTooLong,         ///< longer than a car, lower than a truck (hedges, fences)
 };
 
 /// The verdict's name, for reports and counts ("vehicle", "see_through", ...).

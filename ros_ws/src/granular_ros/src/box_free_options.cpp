@@ -1,12 +1,14 @@
 #include "granular_ros/box_free_options.h"
 
 #include <algorithm>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
 
 #include <granular_core/dataset/pcd_io.h>
 #include <granular_core/text.h>
+#include <ros/package.h>
 
 #include "granular_ros/config_file.h"
 
@@ -25,22 +27,50 @@ void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_o
       });
 }
 
+std::filesystem::path sensorsDirectory() {
+  // This package's folder: the source (its config/sensors links to the repository's) in a
+  // devel space, share/granular_ros in an install space.
+  const std::string package = ros::package::getPath("granular_ros");
+  if (package.empty()) {
+    throw std::invalid_argument(
+        "--sensor NAME: package granular_ros not found on ROS_PACKAGE_PATH (source the "
+        "workspace's setup.bash), or give the sensor FILE.yaml");
+  }
+  return std::filesystem::path(package) / "config" / "sensors";
+}
+
+namespace {
+
+// The shipped sensors' names for an error message, or why there are none.
+std::string shippedSensorNames() {
+  std::filesystem::path sensors;
+  try {
+    sensors = sensorsDirectory();
+  } catch (const std::invalid_argument&) {
+    return "none known: granular_ros not found on ROS_PACKAGE_PATH";
+  }
+  std::vector<std::string> names;
+  std::error_code unreadable;  // no sensors folder (an install without it): no names
+  for (const auto& entry : std::filesystem::directory_iterator(sensors, unreadable)) {
+    if (entry.path().extension() == ".yaml") {
+      names.push_back(entry.path().stem().string());
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names.empty() ? "none in " + sensors.string() : granular::joined(names);
+}
+
+}  // namespace
+
 granular::SensorConfig loadSensorFile(const std::string& name_or_file) {
   const bool is_name = name_or_file.find('/') == std::string::npos &&
                        std::filesystem::path(name_or_file).extension() != ".yaml";
-  const std::filesystem::path file =
-      is_name ? std::filesystem::path(GRANULAR_SENSORS_DIR) / (name_or_file + ".yaml")
-              : std::filesystem::path(name_or_file);
+  const std::filesystem::path file = is_name
+                                         ? sensorsDirectory() / (name_or_file + ".yaml")
+                                         : std::filesystem::path(name_or_file);
   if (!std::filesystem::is_regular_file(file)) {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(GRANULAR_SENSORS_DIR)) {
-      if (entry.path().extension() == ".yaml") {
-        names.push_back(entry.path().stem().string());
-      }
-    }
-    std::sort(names.begin(), names.end());
     throw std::invalid_argument("--sensor " + name_or_file + ": no sensor file " +
-                                file.string() + " (sensors: " + granular::joined(names) +
+                                file.string() + " (sensors: " + shippedSensorNames() +
                                 ", auto, or a FILE.yaml)");
   }
   granular::SensorConfig sensor;
@@ -136,6 +166,13 @@ std::string BoxFreeOptions::help(const std::string& segmentation_option) {
          "                         --ground-config; KITTI's HDL-64E 1.73, the simulator's 2.3)\n"
          "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
          "                         (objects.azimuth_step_deg; HDL-64E 0.176, the simulator 1)\n";
+}
+
+bool isVehicleDecision(const std::string& file) {
+  std::ifstream stream(file);
+  std::string first_line;
+  // An unreadable file is left to the classifier's loader, which names the problem.
+  return std::getline(stream, first_line) && first_line.rfind("%YAML:", 0) != 0;
 }
 
 granular::SupervisedClassifier loadBackgroundClassifier(const std::string& file,

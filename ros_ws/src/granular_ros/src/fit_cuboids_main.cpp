@@ -55,7 +55,9 @@ std::string usage() {
          "                         others' cuboids take its class and score as label\n"
          "                         (where the method gives none: geometric, rectangle),\n"
          "                         unknown where its answer was a Background not sure\n"
-         "                         enough to drop\n"
+         "                         enough to drop; or a vehicle decision that\n"
+         "                         train_vehicle_decision tuned on labelled frames (the\n"
+         "                         evidence: keys of --config, laid over them)\n"
          "  --prior-classes LIST   the size priors the geometric fit chooses among, comma-\n"
          "                         separated (geometric.classes), e.g. Sedan,SUV,Hatchback,Jeep,\n"
          "                         BoxTruck,SchoolBus for the simulator\n"
@@ -129,6 +131,9 @@ int main(int argc, char** argv) {
   const auto configure = [&] {
     config = granular_ros::buildConfig<granular::CuboidConfig>(
         options.config_file, [&](granular::CuboidConfig& cuboids) {
+          if (options.classifier_file && granular_ros::isVehicleDecision(*options.classifier_file)) {
+            granular_ros::loadConfigFile(*options.classifier_file, cuboids);
+          }
           if (options.method) {
             cuboids.method =
                 granular_ros::parseChoice<granular::CuboidMethod>("--method", *options.method);
@@ -157,7 +162,7 @@ int main(int argc, char** argv) {
   };
   std::optional<granular::SupervisedClassifier> classifier;
   return tool.run(argc, argv, configure, [&] {
-    if (options.classifier_file) {
+    if (options.classifier_file && !granular_ros::isVehicleDecision(*options.classifier_file)) {
       classifier.emplace(granular_ros::loadBackgroundClassifier(
           *options.classifier_file, run.segmentation.background.label));
       run.classifier = &*classifier;

@@ -53,9 +53,19 @@ struct BoxFreeOptions {
   mutable std::optional<std::pair<double, double>> sensor_values_;
 };
 
-/// A sensor file: NAME (config/sensors/NAME.yaml of this workspace) or a path; strict and
-/// validated, a std::invalid_argument naming the file otherwise.
+/// The shipped sensor files: config/sensors of this package's folder as ROS finds it (the
+/// source in a devel space, share/granular_ros once installed); std::invalid_argument when
+/// ROS does not know the package (no workspace sourced).
+std::filesystem::path sensorsDirectory();
+
+/// A sensor file: NAME (sensorsDirectory()/NAME.yaml) or a path; strict and validated, a
+/// std::invalid_argument naming the file otherwise.
 granular::SensorConfig loadSensorFile(const std::string& name_or_file);
+
+/// Whether `file`, given as a Background decision, is a vehicle decision (the `evidence:` keys
+/// of config/cuboids.yaml that train_vehicle_decision tuned on labelled frames) rather than a
+/// train_classifier file (OpenCV's YAML, whose first line is "%YAML:1.0").
+bool isVehicleDecision(const std::string& file);
 
 /// The Background decision's classifier from `file` (train_classifier's); a
 /// std::runtime_error naming the file when it knows no class `background_label`.

@@ -88,6 +88,9 @@ struct FitCuboidsSummary {
   /// Per object: milliseconds in CuboidFitter::fit (segmentation, ground and the cropping of
   /// detections not included).
   std::vector<double> milliseconds;
+  /// Per frame: milliseconds from its cloud read to its cuboids judged (ground, segmentation,
+  /// splitting, cropping, fitting and the vehicle decision; over FitCuboidsOptions::threads).
+  std::vector<double> frame_milliseconds;
   double seconds = 0.0;  ///< wall time of the whole run
 
   /// Cleared, skipped frames and detections, frames without ground (at most 10 lines each) on

@@ -8,14 +8,22 @@ import dataclasses
 import os
 import pathlib
 
+import rospkg
 import yaml
 
 from ..config_loading import ConfigError, bounded, overlay
 from .config import LidarConfig
 
-# config/sensors of the repository this package's source lies in
-# (<repo>/ros_ws/src/granular_tools/src/granular_tools/simulation/sensor.py).
-SENSORS_DIR = pathlib.Path(__file__).resolve().parents[6] / "config" / "sensors"
+
+def sensors_dir():
+    """granular_ros's config/sensors where ROS finds the package (its source, whose
+    config/sensors links to the repository's, in a devel space; share/granular_ros once
+    installed): the files the C++ tools' --sensor NAME reads."""
+    try:
+        return pathlib.Path(rospkg.RosPack().get_path("granular_ros")) / "config" / "sensors"
+    except rospkg.ResourceNotFound as error:
+        raise ConfigError("sensor names need package granular_ros on ROS_PACKAGE_PATH (source "
+                          "the workspace's setup.bash), or give a sensor FILE.yaml") from error
 
 
 @dataclasses.dataclass(frozen=True)
@@ -61,18 +69,18 @@ def sensor_path(name_or_file):
     """A sensor file's path: NAME is config/sensors/NAME.yaml, anything ending in .yaml a file."""
     if name_or_file.endswith((".yaml", ".yml")) or os.sep in name_or_file:
         return pathlib.Path(name_or_file)
-    return SENSORS_DIR / f"{name_or_file}.yaml"
+    return sensors_dir() / f"{name_or_file}.yaml"
 
 
 def available_sensors():
-    return sorted(path.stem for path in SENSORS_DIR.glob("*.yaml"))
+    return sorted(path.stem for path in sensors_dir().glob("*.yaml"))
 
 
 def load_sensor(name_or_file):
     """Read and validate a sensor file; a ConfigError names the file and what is wrong."""
     path = sensor_path(name_or_file)
     if not path.is_file():
-        known = ", ".join(available_sensors()) or f"none in {SENSORS_DIR}"
+        known = ", ".join(available_sensors()) or f"none in {sensors_dir()}"
         raise ConfigError(f"sensor '{name_or_file}': no file {path} (sensors: {known})")
     try:
         with open(path, encoding="utf-8") as stream:

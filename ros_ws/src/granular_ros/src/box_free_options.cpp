@@ -15,16 +15,19 @@
 namespace granular_ros {
 
 void BoxFreeOptions::addTo(OptionTable& table, const std::string& segmentation_option) {
-  table.value("--ground-config", ground_config)
-      .value(segmentation_option, segmentation_config)
-      .value("--sensor", sensor)
-      .custom("--sensor-height",
-              [this](OptionReader& reader) {
-                sensor_height = parseNumber<double>("--sensor-height", reader.value());
-              })
-      .custom("--azimuth-step", [this](OptionReader& reader) {
-        azimuth_step = parseNumber<double>("--azimuth-step", reader.value());
-      });
+  table.value("--ground-config", ground_config, "FILE", "YAML file like config/ground.yaml")
+      .value(segmentation_option, segmentation_config, "FILE",
+             "YAML file like config/segmentation.yaml")
+      .value("--sensor", sensor, "NAME|FILE|auto",
+             "the sensor: config/sensors/NAME.yaml (simulator, hdl64e, os1_64, vlp16, "
+             "pandar64), a sensor file, or auto: its height and azimuth step measured from the "
+             "frames' clouds")
+      .number("--sensor-height", sensor_height, "M",
+              "the sensor's height above the road (plane.sensor_height of --ground-config; "
+              "KITTI's HDL-64E 1.73, the simulator's 2.3)")
+      .number("--azimuth-step", azimuth_step, "DEG",
+              "the sensor's angle between returns along a ring (objects.azimuth_step_deg; "
+              "HDL-64E 0.176, the simulator 1)");
 }
 
 std::filesystem::path sensorsDirectory() {
@@ -150,22 +153,6 @@ granular::SegmentationStageConfig BoxFreeOptions::segmentation() const {
           config.objects.azimuth_step_deg = *azimuth_step;
         }
       });
-}
-
-std::string BoxFreeOptions::help(const std::string& segmentation_option) {
-  // The option and its argument in the first 25 columns, as the tools' other options.
-  std::string segmentation = "  " + segmentation_option + " FILE";
-  segmentation += segmentation.size() < 24 ? std::string(25 - segmentation.size(), ' ')
-                                           : "\n" + std::string(25, ' ');
-  return "  --ground-config FILE   YAML file like config/ground.yaml\n" + segmentation +
-         "YAML file like config/segmentation.yaml\n"
-         "  --sensor NAME|FILE|auto  the sensor: config/sensors/NAME.yaml (simulator, hdl64e,\n"
-         "                         os1_64, vlp16, pandar64), a sensor file, or auto: its height\n"
-         "                         and azimuth step measured from the frames' clouds\n"
-         "  --sensor-height M      the sensor's height above the road (plane.sensor_height of\n"
-         "                         --ground-config; KITTI's HDL-64E 1.73, the simulator's 2.3)\n"
-         "  --azimuth-step DEG     the sensor's angle between returns along a ring\n"
-         "                         (objects.azimuth_step_deg; HDL-64E 0.176, the simulator 1)\n";
 }
 
 bool isVehicleDecision(const std::string& file) {

@@ -46,31 +46,49 @@ void OptionReader::unknown() const {
   throw std::invalid_argument("unknown option '" + name_ + "'");
 }
 
-OptionTable& OptionTable::flag(const std::string& name, bool& field, const std::string& alias) {
-  custom(name, [&field](OptionReader& reader) { field = reader.flag(); });
-  return alias.empty() ? *this : custom(alias, handlers_.at(name));
+OptionTable& OptionTable::add(const std::string& name, const std::string& argument,
+                              const std::string& text, Handler handler) {
+  handlers_[name] = std::move(handler);
+  entries_.push_back({argument.empty() ? name : name + " " + argument, text});
+  return *this;
+}
+
+OptionTable& OptionTable::flag(const std::string& name, bool& field, const std::string& text) {
+  return add(name, "", text, [&field](OptionReader& reader) { field = reader.flag(); });
 }
 
 OptionTable& OptionTable::help(bool& field) {
   help_ = &field;
-  return flag("--help", field, "-h");
+  handlers_["--help"] = handlers_["-h"] = [&field](OptionReader& reader) {
+    field = reader.flag();
+  };
+  return *this;
 }
 
-OptionTable& OptionTable::required(const std::string& name, std::string& field) {
+OptionTable& OptionTable::required(const std::string& name, std::string& field,
+                                   const std::string& argument, const std::string& text) {
   required_.emplace_back(name, &field);
-  return value(name, field);
+  return value(name, field, argument, text);
 }
 
-OptionTable& OptionTable::value(const std::string& name, std::string& field) {
-  return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
+OptionTable& OptionTable::value(const std::string& name, std::string& field,
+                                const std::string& argument, const std::string& text) {
+  return add(name, argument, text, [&field](OptionReader& reader) { field = reader.value(); });
 }
 
-OptionTable& OptionTable::value(const std::string& name, std::optional<std::string>& field) {
-  return custom(name, [&field](OptionReader& reader) { field = reader.value(); });
+OptionTable& OptionTable::value(const std::string& name, std::optional<std::string>& field,
+                                const std::string& argument, const std::string& text) {
+  return add(name, argument, text, [&field](OptionReader& reader) { field = reader.value(); });
 }
 
-OptionTable& OptionTable::threads(const std::string& name, int& field) {
-  return custom(name, [&field, name](OptionReader& reader) {
+OptionTable& OptionTable::list(const std::string& name, std::vector<std::string>& field,
+                               const std::string& argument, const std::string& text) {
+  return add(name, argument, text,
+             [&field, name](OptionReader& reader) { field = splitList(name, reader.value()); });
+}
+
+OptionTable& OptionTable::threads(const std::string& name, int& field, const std::string& text) {
+  return add(name, "N", text, [&field, name](OptionReader& reader) {
     field = parseNumber<int>(name, reader.value());
     // Far more threads than any machine has cores only fail in OpenMP (or crash in it).
     constexpr int kMaxThreads = 1024;
@@ -81,9 +99,48 @@ OptionTable& OptionTable::threads(const std::string& name, int& field) {
   });
 }
 
-OptionTable& OptionTable::custom(const std::string& name, Handler handler) {
-  handlers_[name] = std::move(handler);
-  return *this;
+OptionTable& OptionTable::custom(const std::string& name, const std::string& argument,
+                                 const std::string& text, Handler handler) {
+  return add(name, argument, text, std::move(handler));
+}
+
+std::string OptionTable::help() const {
+  // The options in the first kColumn columns, their text beside them up to kWidth.
+  constexpr std::size_t kColumn = 25;
+  constexpr std::size_t kWidth = 90;
+  std::vector<Entry> entries = entries_;
+  if (help_ != nullptr) {
+    entries.push_back({"-h, --help", "print this help and exit"});  // last, as the tools had it
+  }
+  std::string lines;
+  for (const Entry& entry : entries) {
+    std::string line = "  " + entry.names;
+    const auto endLine = [&] {
+      lines += line.substr(0, line.find_last_not_of(' ') + 1) + "\n";
+      line = std::string(kColumn, ' ');
+    };
+    if (line.size() + 1 >= kColumn) {
+      endLine();
+    }
+    line.resize(kColumn, ' ');
+    std::istringstream paragraphs(entry.text);
+    bool first_paragraph = true;
+    for (std::string paragraph; std::getline(paragraphs, paragraph);) {
+      if (!first_paragraph) {
+        endLine();
+      }
+      first_paragraph = false;
+      std::istringstream words(paragraph);
+      for (std::string word; words >> word;) {
+        if (line.size() > kColumn && line.size() + 1 + word.size() > kWidth) {
+          endLine();
+        }
+        line += (line.size() > kColumn ? " " : "") + word;
+      }
+    }
+    endLine();
+  }
+  return lines;
 }
 
 void OptionTable::parse(int argc, char** argv) const {

@@ -64,8 +64,8 @@ void stopCleanlyOnSignals(const std::string& name) {
   }).detach();
 }
 
-Tool::Tool(std::string name, std::function<std::string()> usage)
-    : name_(std::move(name)), usage_(std::move(usage)) {
+Tool::Tool(std::string name, std::string about, std::string epilogue)
+    : name_(std::move(name)), about_(std::move(about)), epilogue_(std::move(epilogue)) {
   options_.help(help_);
 }
 
@@ -75,7 +75,7 @@ int Tool::run(int argc, char** argv, const std::function<void()>& configure,
   try {
     options_.parse(argc, argv);
     if (help_) {
-      std::cout << usage_();
+      std::cout << about_ << "\noptions:\n" << options_.help() << "\n" << epilogue_;
       return kExitDone;
     }
     configure();
@@ -105,6 +105,12 @@ std::function<void(std::size_t, std::size_t)> Tool::progress(const std::string& 
   return [report = ProgressReport(lines), what, unit](std::size_t done, std::size_t total) mutable {
     report(what, done, total, unit);
   };
+}
+
+void Tool::warn(const std::vector<std::string>& warnings) const {
+  for (const std::string& warning : warnings) {
+    std::cerr << name_ << ": warning: " << warning << '\n';
+  }
 }
 
 granular::OutputPolicy Tool::outputPolicy(bool overwrite) {

@@ -27,9 +27,9 @@ Parsed parse(std::vector<std::string> arguments) {
   Parsed parsed;
   OptionTable()
       .help(parsed.help)
-      .required("--objects", parsed.objects)
-      .required("--out", parsed.out)
-      .value("--preset", parsed.preset)
+      .required("--objects", parsed.objects, "FOLDER", "objects to classify")
+      .required("--out", parsed.out, "FILE.json", "results file to write")
+      .value("--preset", parsed.preset, "NAME", "parameter set")
       .parse(static_cast<int>(argv.size()), argv.data());
   return parsed;
 }
@@ -73,7 +73,7 @@ TEST(OptionTableTest, OneRequiredOptionIsNamedAlone) {
   std::vector<std::string> arguments = {"tool"};
   std::vector<char*> argv = {arguments[0].data()};
   try {
-    OptionTable().required("--frames", frames).parse(1, argv.data());
+    OptionTable().required("--frames", frames, "FOLDER", "frames").parse(1, argv.data());
     FAIL() << "no error";
   } catch (const std::invalid_argument& error) {
     EXPECT_STREQ(error.what(), "--frames is required");
@@ -82,6 +82,31 @@ TEST(OptionTableTest, OneRequiredOptionIsNamedAlone) {
 
 TEST(OptionTableTest, UnknownOptionsAreStillErrors) {
   EXPECT_NE(errorOf({"--objects", "o", "--out", "r", "--outt", "x"}), "");
+}
+
+TEST(OptionTableTest, HelpListsEveryOptionOnceInTheOrderDeclared) {
+  bool help = false;
+  bool transforms = false;
+  std::string out;
+  int threads = 0;
+  OptionTable table;
+  table.required("--out", out, "FILE.json", "results file to write (replaced)")
+      .flag("--transforms", transforms,
+            "also write each pair's final transform (16 numbers, row-major; the file grows "
+            "about threefold)\nnot read by svm_fitness")
+      .threads("--threads", threads, "threads (default: every core)")
+      .value("--a-very-long-option-name", out, "FILE.json[,FILE.json...]", "results files")
+      .help(help);
+  EXPECT_EQ(table.help(),
+            "  --out FILE.json        results file to write (replaced)\n"
+            "  --transforms           also write each pair's final transform (16 numbers, "
+            "row-major;\n"
+            "                         the file grows about threefold)\n"
+            "                         not read by svm_fitness\n"
+            "  --threads N            threads (default: every core)\n"
+            "  --a-very-long-option-name FILE.json[,FILE.json...]\n"
+            "                         results files\n"
+            "  -h, --help             print this help and exit\n");
 }
 
 }  // namespace

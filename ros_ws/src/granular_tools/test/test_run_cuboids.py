@@ -151,7 +151,12 @@ def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
              (["--max-range", "inf"], "max_range must be a positive number"),
              (["--azimuth-step", "inf"], "azimuth_step must be a positive number"),
              (["--boxes", "detections", "--classifier", drive / "knn.yml"],
-              "it needs boxes:=segment")]
+              "it needs boxes:=segment"),
+             (["--name-with", "knn"], "name_with and name_models go together"),
+             (["--name-with", "forest", "--name-models", drive / "knn.yml"],
+              "name_with must be one of"),
+             (["--name-with", "svm_fitness", "--name-models", drive / "knn.yml"],
+              "needs class_models")]
     # A misspelt key in a config of --config-dir: a bad configuration, as for every tool.
     configs = tmp_path / "configs"
     configs.mkdir()
@@ -167,6 +172,21 @@ def test_bad_arguments_are_refused_before_anything_is_written(drive, tmp_path):
     result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", tmp_path / "knn",
                                         "--classifier", drive / "knn.yml"])
     hostile.assert_fails_clearly(result, 1, drive / "knn.yml", "knows no class 'Background'")
+
+
+def test_name_with_names_every_cuboid_with_the_classifier(drive, tmp_path):
+    out = tmp_path / "named"
+    result = hostile.run(RUN_CUBOIDS + ["--bag", drive / "drive.bag", "--out", out, "--name-with",
+                                        "knn", "--name-models", drive / "knn.yml"] + REPORT)
+    assert result.status == 0, str(result)
+    labels = {detection["label"] for path in (out / "cuboids").glob("[!.]*.json")
+              for detection in json.loads(path.read_text())["detections"]}
+    classes = {row["label"] for row in csv.DictReader(open(drive / "objects" / "index.csv"))}
+    # Every cuboid takes one of the kNN's classes; none stays the geometric fit's unknown.
+    assert labels and labels <= classes
+    summary = json.loads((out / "report" / "summary.json").read_text())["overall"]
+    assert summary["unclassified_predictions"] == 0
+    assert summary["class_aware"]["paper"]["f1"] > 0.0
 
 
 def test_the_pipeline_crops_a_clouds_only_bags_objects_in_its_fitted_cuboids(clouds_only_bag,

@@ -1,11 +1,13 @@
 #include "granular_core/registration/reference.h"
 
+#include <cmath>
 #include <exception>
 
 #include <pcl/registration/icp.h>
 #include <pcl/registration/icp_nl.h>
 #include <pcl/registration/ndt.h>
 
+#include "granular_core/registration/criteria.h"
 #include "icp_common.h"
 #include "ndt_common.h"
 
@@ -107,6 +109,44 @@ std::vector<std::vector<PairResult>> registerObjectsReference(
     }
   }
   return results;
+}
+
+ReferenceComparison compareWithReference(const std::vector<std::vector<PairResult>>& reference,
+                                         const std::vector<std::vector<PairResult>>& ours) {
+  ReferenceComparison comparison;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const Predictions expected = predict(reference[i]);
+    const Predictions got = predict(ours[i]);
+    for (int criterion = 1; criterion <= 3; ++criterion) {
+      if (expected.criterion(criterion) != got.criterion(criterion)) {
+        ++comparison.different_predictions;
+        break;
+      }
+    }
+    for (std::size_t m = 0; m < reference[i].size(); ++m) {
+      const PairResult& a = reference[i][m];
+      const PairResult& b = ours[i][m];
+      comparison.rejected_pairs += b.rejected;
+      const bool same_fitness =
+          b.rejected || a.fitness == b.fitness || (std::isnan(a.fitness) && std::isnan(b.fitness));
+      if (a.state != b.state || a.iterations != b.iterations || !same_fitness ||
+          a.transform != b.transform) {
+        ++comparison.different_pairs;
+      }
+    }
+  }
+  return comparison;
+}
+
+double criterion2Accuracy(const std::vector<std::vector<PairResult>>& results,
+                          const std::vector<std::string>& labels,
+                          const std::vector<LabelledModel>& models) {
+  std::size_t correct = 0;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const std::optional<std::size_t> predicted = predict(results[i]).criterion2;
+    correct += predicted && models[*predicted].label == labels[i];
+  }
+  return results.empty() ? 0.0 : static_cast<double>(correct) / results.size();
 }
 
 }  // namespace granular

@@ -1,7 +1,6 @@
 #include "granular_core/runs/classify_registration_run.h"
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +16,7 @@
 #include "granular_core/dataset/models_folder.h"
 #include "granular_core/dataset/object_names.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/dataset/registration_results.h"
 #include "granular_core/parallel.h"
 #include "granular_core/text.h"
 
@@ -25,46 +25,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The double whose shortest text is `value`'s as a float (at most 9 digits): the file then
-// holds "0.016393442", not the widened float's "0.016393441706895828", and reads back as the
-// same float, so that features from the file and the online node's agree.
-double asWritten(float value) {
-  char text[32];
-  const std::to_chars_result end = std::to_chars(text, text + sizeof(text), value);
-  return std::strtod(std::string(text, end.ptr).c_str(), nullptr);
-}
-
-nlohmann::json pairJson(const PairResult& result, bool with_transform) {
-  nlohmann::json json = {{"converged", result.converged()},
-                         {"state", registrationStateName(result.state)},
-                         {"iterations", result.iterations}};
-  const std::optional<double> fitness = result.reportedFitness();
-  json["fitness"] = fitness ? nlohmann::json(*fitness) : nlohmann::json(nullptr);
-  if (fitness) {
-    nlohmann::json shares = nlohmann::json::array();
-    for (const float share : result.inlier_shares) {
-      shares.push_back(asWritten(share));
-    }
-    json["inlier_shares"] = shares;
+RegistrationPairRecord pairRecord(const PairResult& result, bool with_transform) {
+  RegistrationPairRecord pair;
+  pair.converged = result.converged();
+  pair.state = registrationStateName(result.state);
+  pair.iterations = result.iterations;
+  pair.fitness = result.reportedFitness();
+  if (pair.fitness) {
+    pair.inlier_shares.assign(result.inlier_shares.begin(), result.inlier_shares.end());
   }
-  if (result.rejected) {
-    json["rejected"] = true;
-  }
-  if (!with_transform) {
-    return json;
-  }
-  if (result.ran()) {
-    nlohmann::json transform = nlohmann::json::array();
+  pair.rejected = result.rejected;
+  if (with_transform && result.ran()) {
+    std::array<float, 16>& transform = pair.transform.emplace();
     for (int row = 0; row < 4; ++row) {
       for (int column = 0; column < 4; ++column) {
-        transform.push_back(result.transform(row, column));
+        transform[static_cast<std::size_t>(row * 4 + column)] = result.transform(row, column);
       }
     }
-    json["transform"] = transform;
-  } else {
-    json["transform"] = nullptr;
   }
-  return json;
+  return pair;
 }
 
 }  // namespace
@@ -200,51 +179,39 @@ ClassificationRun classifyFolder(const fs::path& models, const fs::path& objects
 
 void writeClassificationJson(const fs::path& file, const ClassificationRun& run,
                              const ClassificationJsonOptions& options) {
-  nlohmann::json objects = nlohmann::json::array();
+  RegistrationResultsFile results;
+  results.method = registrationMethodName(run.method);
+  results.preset = run.preset;
+  results.parameters = registrationParameters(run.method, run.config).dump();
+  results.models = run.models;
+  results.inlier_radii.emplace(kInlierRadii.begin(), kInlierRadii.end());
+  results.seconds = run.seconds;
+  results.threads = run.threads;
+  results.transforms = options.transforms;
   for (const ObjectRecord& object : run.objects) {
-    nlohmann::json per_model = nlohmann::json::object();
-    for (std::size_t m = 0; m < object.per_model.size(); ++m) {
-      per_model[run.models.at(m)] = pairJson(object.per_model[m], options.transforms);
+    RegistrationObjectRecord& record = results.objects.emplace_back();
+    record.file = object.file;
+    if (!object.true_label.empty()) {
+      record.true_label = object.true_label;
     }
-    nlohmann::json predictions = nlohmann::json::object();
+    record.points = object.points;
+    record.points_used = object.points_used;
+    for (const PairResult& pair : object.per_model) {
+      record.per_model.push_back(pairRecord(pair, options.transforms));
+    }
     for (int criterion = 1; criterion <= 3; ++criterion) {
-      const std::optional<std::size_t>& prediction = object.predictions.criterion(criterion);
-      predictions["criterion" + std::to_string(criterion)] =
-          prediction ? nlohmann::json(run.models.at(*prediction)) : nlohmann::json(nullptr);
+      if (const auto& prediction = object.predictions.criterion(criterion)) {
+        record.predictions[static_cast<std::size_t>(criterion - 1)] = run.models.at(*prediction);
+      }
     }
-    objects.push_back({{"file", object.file},
-                       {"true_label", object.true_label.empty()
-                                          ? nlohmann::json(nullptr)
-                                          : nlohmann::json(object.true_label)},
-                       {"points", object.points},
-                       {"points_used", object.points_used},
-                       {"per_model", per_model},
-                       {"predictions", predictions}});
   }
-  nlohmann::json missing = nlohmann::json::object();
-  nlohmann::json accuracy = nlohmann::json::object();
   for (int criterion = 1; criterion <= 3; ++criterion) {
-    const std::string key = "criterion" + std::to_string(criterion);
     const CriterionSummary summary = run.summary(criterion);
-    missing[key] = summary.missing;
-    accuracy[key] = {{"predicted", summary.predicted},
-                     {"labelled", summary.labelled},
-                     {"correct", summary.correct},
-                     {"accuracy", summary.accuracy()}};
+    results.criteria[static_cast<std::size_t>(criterion - 1)] = {
+        summary.predicted, summary.missing, summary.labelled, summary.correct, summary.accuracy()};
   }
-  const nlohmann::json document = {{"method", registrationMethodName(run.method)},
-                                   {"preset", run.preset},
-                                   {"parameters", registrationParameters(run.method, run.config)},
-                                   {"models", run.models},
-                                   {"inlier_radii", kInlierRadii},
-                                   {"seconds", run.seconds},
-                                   {"threads", run.threads},
-                                   {"objects", objects},
-                                   {"missing", missing},
-                                   {"accuracy", accuracy},
-                                   {"warnings", run.warnings}};
-
-  writeFileAtomically(file, document.dump(1) + "\n", "JSON");
+  results.warnings = run.warnings;
+  writeRegistrationResults(file, results);
 }
 
 }  // namespace granular

@@ -1,10 +1,12 @@
+// The runs of train_classifier and classify_supervised: folder features, svm_fitness's features
+// from registration results files, training, classifying and the results JSON. (Over 400
+// lines: the two tools share the private feature and timing helpers here.)
 #include "granular_core/runs/classify_supervised_run.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -15,6 +17,7 @@
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/dataset/registration_results.h"
 #include "granular_core/dataset/object_names.h"
 #include "granular_core/parallel.h"
 #include "granular_core/text.h"
@@ -60,7 +63,8 @@ void addWarnings(SupervisedRun& run, const SupervisedClassifier& classifier) {
   }
 }
 
-// One classify_registration results file: what ran, and each object's fitness per model.
+// One classify_registration results file as svm_fitness needs it: what ran, and each object's
+// fitness per model.
 struct RegistrationResults {
   std::string method, preset;
   nlohmann::json parameters;
@@ -73,63 +77,50 @@ struct RegistrationResults {
   bool inlier_shares = true;
 };
 
-RegistrationResults readRegistrationResults(const fs::path& file) {
+// A results file (dataset/registration_results) as svm_fitness learns from it: each pair's
+// fitness and inlier shares, checked for what the features need.
+RegistrationResults readFitness(const fs::path& file) {
   const auto fail = [&](const std::string& what) {
     return std::runtime_error(file.string() + ": " + what);
   };
-  std::ifstream stream(file);
-  if (!stream) {
-    throw fail("cannot read it");
-  }
+  const RegistrationResultsFile read = readRegistrationResults(file);
   RegistrationResults results;
-  try {
-    const nlohmann::json document = nlohmann::json::parse(stream);
-    if (!document.is_object() || !document.contains("models") ||
-        !document.contains("objects")) {
-      throw fail("not a classify_registration results file (no models or objects)");
-    }
-    results.method = document.at("method").get<std::string>();
-    results.preset = document.value("preset", std::string());
-    results.parameters = document.at("parameters");
-    results.models = document.at("models").get<std::vector<std::string>>();
-    results.seconds = document.value("seconds", 0.0);
-    if (!document.contains("inlier_radii")) {
-      results.inlier_shares = false;
-    } else if (document.at("inlier_radii").get<std::vector<double>>() !=
-               std::vector<double>(kInlierRadii.begin(), kInlierRadii.end())) {
-      throw fail("inlier shares measured at " + document.at("inlier_radii").dump() +
-                 " m, not at the radii this granular uses; register again");
-    }
-    for (const nlohmann::json& object : document.at("objects")) {
-      results.files.push_back(object.at("file").get<std::string>());
-      results.points.push_back(object.at("points").get<std::size_t>());
-      const nlohmann::json& per_model = object.at("per_model");
-      std::vector<PairFitness> pairs;
-      for (const std::string& model : results.models) {
-        const nlohmann::json& pair_json = per_model.at(model);
-        if (pair_json.value("rejected", false)) {
-          throw fail("written with --early-rejection: the fitness of the models that could not "
-                     "win was not computed, and svm_fitness's features need every model's");
-        }
-        const nlohmann::json& value = pair_json.at("fitness");
-        PairFitness& pair = pairs.emplace_back();
-        if (!value.is_number()) {
-          continue;
-        }
-        pair.fitness = value.get<double>();
-        if (results.inlier_shares) {
-          const std::vector<float> shares = pair_json.at("inlier_shares").get<std::vector<float>>();
-          if (shares.size() != kInlierRadii.size()) {
-            throw fail(object.at("file").get<std::string>() + ": " + model + ": " +
-                       std::to_string(shares.size()) + " inlier shares, not one per radius");
-          }
-          std::copy(shares.begin(), shares.end(), pair.inlier_shares.begin());
-        }
+  results.method = read.method;
+  results.preset = read.preset;
+  results.parameters = nlohmann::json::parse(read.parameters);
+  results.models = read.models;
+  results.seconds = read.seconds;
+  results.inlier_shares = read.inlier_radii.has_value();
+  if (read.inlier_radii &&
+      *read.inlier_radii != std::vector<double>(kInlierRadii.begin(), kInlierRadii.end())) {
+    throw fail("inlier shares measured at " + nlohmann::json(*read.inlier_radii).dump() +
+               " m, not at the radii this granular uses; register again");
+  }
+  for (const RegistrationObjectRecord& object : read.objects) {
+    results.files.push_back(object.file);
+    results.points.push_back(object.points);
+    std::vector<PairFitness>& pairs = results.pairs.emplace_back();
+    for (std::size_t m = 0; m < read.models.size(); ++m) {
+      const RegistrationPairRecord& pair = object.per_model[m];
+      if (pair.rejected) {
+        throw fail("written with --early-rejection: the fitness of the models that could not "
+                   "win was not computed, and svm_fitness's features need every model's");
       }
-      results.pairs.push_back(std::move(pairs));
+      PairFitness& fitness = pairs.emplace_back();
+      if (!pair.fitness) {
+        continue;
+      }
+      fitness.fitness = *pair.fitness;
+      if (results.inlier_shares) {
+        if (pair.inlier_shares.size() != kInlierRadii.size()) {
+          throw fail(object.file + ": " + read.models[m] + ": " +
+                     std::to_string(pair.inlier_shares.size()) +
+                     " inlier shares, not one per radius");
+        }
+        std::copy(pair.inlier_shares.begin(), pair.inlier_shares.end(),
+                  fitness.inlier_shares.begin());
+      }
     }
-  } catch (const nlohmann::json::exception& error) {
-    throw fail(std::string("not a classify_registration results file (") + error.what() + ")");
   }
   if (results.files.empty() || results.models.empty()) {
     throw fail("holds no objects or no models");
@@ -237,7 +228,7 @@ RegistrationFeatures readRegistrationFeatures(const std::vector<fs::path>& resul
   std::vector<std::string> share_names;
   for (std::size_t f = 0; f < results.size(); ++f) {
     const auto start = Clock::now();
-    const RegistrationResults file = readRegistrationResults(results[f]);
+    const RegistrationResults file = readFitness(results[f]);
     if (inlier_shares && !file.inlier_shares) {
       throw std::runtime_error(
           results[f].string() + ": records no inlier shares (an earlier classify_registration "
@@ -491,6 +482,52 @@ void writeSupervisedJson(const fs::path& file, const SupervisedRun& run,
       {"warnings", run.warnings}};
 
   writeFileAtomically(file, document.dump(1) + "\n", "JSON");
+}
+
+std::string trainingInputsProblem(SupervisedMethod method, const SupervisedConfig& config,
+                                  bool objects, bool registration) {
+  const bool from_registration = method == SupervisedMethod::kSvmFitness;
+  if (from_registration && !registration) {
+    return "--method svm_fitness learns from --registration results files (and the --objects "
+           "they are of)";
+  }
+  if (!from_registration && (!objects || registration)) {
+    return std::string("--method ") + supervisedMethodName(method) +
+           " needs --objects (only svm_fitness takes --registration)";
+  }
+  if (from_registration && config.svm_fitness.histogram_weight > 0.0 && !objects) {
+    return "--method svm_fitness also learns the objects' point histograms: give --objects, the "
+           "folder the --registration results are of (or svm_fitness.histogram_weight: 0)";
+  }
+  return "";
+}
+
+std::string supervisedInputsProblem(const SupervisedClassifier& classifier,
+                                    const std::string& model, const SupervisedConfig* expected,
+                                    const std::string& expected_file, bool objects,
+                                    bool registration) {
+  if (expected != nullptr) {
+    // svm_fitness's point histograms, when it takes them, are computed as the svm's.
+    const std::string difference = featureConfigDifference(
+        classifier.takesPointHistograms() ? SupervisedMethod::kSvm : classifier.method(),
+        classifier.config().histograms, expected->histograms);
+    if (!difference.empty()) {
+      return model + " was trained with other feature settings than " + expected_file +
+             " (histograms." + difference +
+             "); retrain it, or leave --config out to use the model's own";
+    }
+  }
+  const bool from_registration = classifier.method() == SupervisedMethod::kSvmFitness;
+  if (from_registration != registration) {
+    return model + " is a " + supervisedMethodName(classifier.method()) + " classifier: give it " +
+           (from_registration ? "--registration results files" : "--objects, not --registration");
+  }
+  if (from_registration && classifier.takesPointHistograms() && !objects) {
+    return model +
+           " also takes the objects' point histograms: give --objects, the folder its "
+           "--registration results are of";
+  }
+  return "";
 }
 
 }  // namespace granular

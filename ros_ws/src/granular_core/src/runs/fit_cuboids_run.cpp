@@ -86,6 +86,43 @@ void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame
   }
 }
 
+// The cuboid's box with its x axis pointing away from the sensor: the fit knows a heading modulo
+// 180 degrees only, and label_box_free turns the training objects by the same rule, so that
+// the classifier sees every object from the same side of its frame.
+OrientedBox facingAway(const Detection& cuboid) {
+  const Eigen::Vector3d axis = cuboid.orientation * Eigen::Vector3d::UnitX();
+  if (axis.head<2>().dot(cuboid.centre.head<2>()) >= 0.0) {
+    return OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size);
+  }
+  const Eigen::Quaterniond turned =
+      cuboid.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  return OrientedBox(cuboid.centre, turned, cuboid.size);
+}
+
+// The namer's class for each cuboid of a frame, and for its observation: the frame's points in
+// the cuboid, in its object frame, cropped as extractObjects crops a given box, so that box-free
+// objects reach the classifier as given ones do. Returns how many it could not classify.
+std::size_t nameCuboids(const ObjectClassifier& namer, const FrameCropper& frame,
+                        const Eigen::Vector3d& padding, std::vector<Detection>& cuboids,
+                        std::vector<Observation>& observations) {
+  std::vector<Cloud> objects;
+  objects.reserve(cuboids.size());
+  for (const Detection& cuboid : cuboids) {
+    objects.push_back(frame.crop(facingAway(cuboid), padding));
+  }
+  const std::vector<ObjectPrediction> predictions = namer.classify(objects);
+  std::size_t not_named = 0;
+  for (std::size_t i = 0; i < cuboids.size(); ++i) {
+    if (!predictions[i].classified) {
+      ++not_named;
+      continue;
+    }
+    cuboids[i].label = observations[i].label = predictions[i].label;
+    cuboids[i].score = observations[i].score = predictions[i].score;
+  }
+  return not_named;
+}
+
 }  // namespace
 
 void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
@@ -104,6 +141,10 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   if (tracked) {
     out << "  tracks born: " << tracks << "; cuboids of tracks never born, not written: "
         << tentative << '\n';
+  }
+  if (!namer.empty()) {
+    out << "  named by " << namer << "; too few points to name (the fitter's label kept): "
+        << not_named << '\n';
   }
   if (called_background > 0) {
     out << "  segments called Background (no cuboid): " << called_background << '\n';
@@ -144,6 +185,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   FitCuboidsSummary summary;
   summary.method = config::enumName(config.method);
   summary.boxes = options.boxes;
+  if (options.namer != nullptr) {
+    summary.namer = options.namer->method();
+  }
   OutputFolder output(out, "fit_cuboids", options.output, {frames});
   summary.cleared = output.cleared();
   FrameSegmenter segmenter(options.ground, options.segmentation);
@@ -207,6 +251,12 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     FrameCuboidsOptions fit_options;
     fit_options.threads = options.threads;
     FrameCuboids cuboids;
+    // Given boxes, the Background decision on segments, or the namer crop the frame box by box.
+    std::optional<FrameCropper> cropper;
+    if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr ||
+        options.namer != nullptr) {
+      cropper.emplace(cloud);
+    }
     if (options.boxes == CuboidInputs::kSegments) {
       segmentation = segmenter.segment(cloud);
       if (options.segmentation.method == SegmentationMethod::kObjects) {
@@ -220,11 +270,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         cuboids = fitSegmentCuboids(cloud, segmentation, options.segmentation, config, *fitter,
                                     options.threads);
       } else {
-        const FrameCropper cropper(cloud);
         segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
         for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
           const runs::BackgroundDecision decision =
-              runs::decideBackground(*options.classifier, cropper, segmentation.segments[s].box,
+              runs::decideBackground(*options.classifier, *cropper, segmentation.segments[s].box,
                                      options.segmentation.background);
           if (decision.dropped) {
             ++summary.called_background;
@@ -236,7 +285,6 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         cuboids = fitFrameObjects(objects, *fitter, fit_options);
       }
     } else {
-      const FrameCropper cropper(cloud);
       std::size_t inliers = 0;
       const GroundPlane ground =
           estimateGroundPlane(cloud, options.ground.plane, nullptr, &inliers);
@@ -255,7 +303,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         }
         const Eigen::Isometry3d to_sensor = box->sensorToObject().inverse();
         std::vector<Eigen::Vector3d> grown;
-        for (const PointXYZIT& point : cropper.crop(*box, margin)) {
+        for (const PointXYZIT& point : cropper->crop(*box, margin)) {
           grown.push_back(to_sensor * Eigen::Vector3d(point.x, point.y, point.z));
         }
         FrameObject object;
@@ -296,6 +344,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.size = kept.cuboid.box.size();
       pending_frame.fitted.push_back(cuboid);
       observations.push_back(Observation{kept.cuboid.box, cuboid.label, cuboid.score});
+    }
+    if (options.namer != nullptr) {
+      summary.not_named += nameCuboids(*options.namer, *cropper, options.naming_padding,
+                                       pending_frame.fitted, observations);
     }
     pending.push_back(std::move(pending_frame));
     if (tracker) {

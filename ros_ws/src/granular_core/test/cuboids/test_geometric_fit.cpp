@@ -1,5 +1,6 @@
 // Geometric cuboid fitting: the L-shape rectangle, size priors grown from the seen corner, the
-// ground's tilt.
+// ground's tilt. (Over 400 lines: one case per way a vehicle is seen, all on the road, priors
+// and error measures at the top.)
 #include <cmath>
 #include <utility>
 #include <vector>

@@ -2,6 +2,7 @@
 // boxes.
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/online/object_classifier.h"
 #include "granular_core/runs/fit_cuboids_run.h"
 #include "support/detections_json.h"
 #include "support/temporary_folder.h"
@@ -182,6 +184,49 @@ TEST_F(FitCuboidsFolderTest, SegmentsDoNotNeedAReadableDetectionsFile) {
       readDetectionsJson(root_ / "cuboids" / (stamp_ + ".json"));
   ASSERT_EQ(cuboids.size(), 1u);
   expectTheCar(cuboids[0]);
+}
+
+// The surface of a box of `size` standing on the road, in the object frame, every 5 cm.
+ModelCloud boxSurface(const Eigen::Vector3d& size) {
+  ModelCloud cloud;
+  const double step = 0.05;
+  for (double u = -size.x() / 2; u <= size.x() / 2 + 1e-9; u += step) {
+    for (double v = -size.y() / 2; v <= size.y() / 2 + 1e-9; v += step) {
+      for (double w = 0.0; w <= size.z() + 1e-9; w += step) {
+        const bool on_face = std::abs(std::abs(u) - size.x() / 2) < 1e-9 ||
+                             std::abs(std::abs(v) - size.y() / 2) < 1e-9 ||
+                             std::abs(w - size.z()) < 1e-9;
+        if (on_face) {
+          cloud.push_back(pcl::PointXYZ(static_cast<float>(u), static_cast<float>(v),
+                                        static_cast<float>(w)));
+        }
+      }
+    }
+  }
+  return cloud;
+}
+
+TEST_F(FitCuboidsFolderTest, TheNamerNamesEachSegmentsCuboidFromItsCroppedPoints) {
+  // Class models of the car's box and of a bus's: the car's cuboid, cropped in its object
+  // frame, registers onto the car's.
+  fs::create_directories(root_ / "models");
+  writeModelPcd(root_ / "models" / "Bus.pcd", boxSurface({12.0, 2.5, 3.0}));
+  writeModelPcd(root_ / "models" / "Hatchback.pcd", boxSurface({4.5, 1.8, 1.5}));
+  const ObjectClassifier namer = ObjectClassifier::registration(
+      RegistrationMethod::kIcp, RegistrationClassifierConfig{}, root_ / "models");
+  FitCuboidsOptions named = options(CuboidInputs::kSegments);
+  named.namer = &namer;
+  const fs::path out = root_ / "cuboids";
+  const FitCuboidsSummary summary = fitCuboidsFolder(frames_, out, carPrior(), named);
+  EXPECT_EQ(summary.namer, "icp");
+  EXPECT_EQ(summary.not_named, 0u);
+  EXPECT_EQ(summary.labels, (std::map<std::string, std::size_t>{{"Hatchback", 2}}));
+  for (const std::string& stamp : {stamp_, bare_stamp_}) {
+    const std::vector<Detection> cuboids = readDetectionsJson(out / (stamp + ".json"));
+    ASSERT_EQ(cuboids.size(), 1u) << stamp;
+    EXPECT_EQ(cuboids[0].label, "Hatchback");
+    EXPECT_GT(cuboids[0].score, 0.5);  // 1 - its fitness / the bus's: far the better
+  }
 }
 
 TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {

@@ -28,7 +28,7 @@ struct BoxFreeOptions {
   std::filesystem::path frames;
 
   /// Adds --ground-config, `segmentation_option` (a file like config/segmentation.yaml),
-  /// --sensor-height and --azimuth-step to `table`.
+  /// --sensor, --sensor-height and --azimuth-step, with their help, to `table`.
   void addTo(OptionTable& table, const std::string& segmentation_option = "--segmentation-config");
 
   /// Whether any of them was given.
@@ -42,9 +42,6 @@ struct BoxFreeOptions {
   /// The segmentation's: defaults, the file, the sensor's azimuth step, then --azimuth-step;
   /// validated.
   granular::SegmentationStageConfig segmentation() const;
-
-  /// The --help lines of the options addTo adds.
-  static std::string help(const std::string& segmentation_option = "--segmentation-config");
 
  private:
   /// The sensor's height and azimuth step: its file's, or measured (auto, once, said on

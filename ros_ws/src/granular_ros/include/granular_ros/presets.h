@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include <granular_core/online/object_classifier.h>
 #include <granular_core/registration/registration_config.h>
 
 namespace granular_ros {
@@ -18,5 +19,20 @@ inline constexpr const char* kDefaultPreset = "tuned";
 /// range, and std::runtime_error naming the file and key for a bad file.
 granular::RegistrationClassifierConfig resolvePreset(
     const std::optional<std::filesystem::path>& file, const std::string& name);
+
+/// The classifier `method` names (icp, icp_nl, ndt: registration against the models folder
+/// `models` with the preset `preset` of `presets_file`; knn, svm, svm_esf: the classifier file
+/// `models`; svm_fitness: the file `models` and the models folder it learnt from,
+/// `class_models`), as the tools that name box-free objects build it. Throws
+/// std::invalid_argument for an unknown method, a file of another method, or svm_fitness without
+/// `class_models`, and std::runtime_error naming a file that cannot be read.
+granular::ObjectClassifier makeObjectClassifier(
+    const std::string& method, const std::filesystem::path& models,
+    const std::optional<std::filesystem::path>& class_models,
+    const std::optional<std::filesystem::path>& presets_file, const std::string& preset,
+    int threads);
+
+/// The --preset option's help: the built-in presets, what sets them apart, and the default.
+std::string presetHelp();
 
 }  // namespace granular_ros

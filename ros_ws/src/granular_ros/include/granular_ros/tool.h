@@ -4,6 +4,8 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <granular_core/dataset/output_folder.h>
 
@@ -23,16 +25,35 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Throws a UsageError saying `problem`, unless it is empty (nothing is wrong).
+inline void refuseIfProblem(const std::string& problem) {
+  if (!problem.empty()) {
+    throw UsageError(problem);
+  }
+}
+
 /// The skeleton of every command-line tool: its options, --help, exit statuses, progress and
 /// error reporting, and a clean stop on a signal.
 ///
-///   Tool tool("extract_objects", usage);
-///   tool.options().required("--in", options.in) ... ;
+///   Tool tool("extract_objects", "usage: extract_objects --in FOLDER ...\n\nWhat it does.\n",
+///             "Exit status: ...\n");
+///   tool.options().required("--in", options.in, "FOLDER", "bag-to-files folder to read") ... ;
 ///   return tool.run(argc, argv, [&] { config = buildConfig(options); }, [&] { ... });
 class Tool {
  public:
-  /// `usage` is printed for --help (and -h), which must be among the options (help()).
-  Tool(std::string name, std::function<std::string()> usage);
+  /// --help (and -h) prints `about` (the usage lines and what the tool does), "options:" with
+  /// the option table's lines (OptionTable::help), and `epilogue` (exit statuses, configuration
+  /// keys).
+  Tool(std::string name, std::string about, std::string epilogue);
+  /// A tool whose help text describe() gives (a tool's options unit, when they outgrow its
+  /// main).
+  explicit Tool(std::string name) : Tool(std::move(name), "", "") {}
+
+  /// Sets what --help prints around the options (the constructor's `about` and `epilogue`).
+  void describe(std::string about, std::string epilogue) {
+    about_ = std::move(about);
+    epilogue_ = std::move(epilogue);
+  }
 
   OptionTable& options() { return options_; }
   /// The help flag, bound into options() by the constructor.
@@ -51,6 +72,9 @@ class Tool {
                                                          const std::string& unit,
                                                          std::size_t lines = 10) const;
 
+  /// "NAME: warning: WARNING" on stderr for each of `warnings`.
+  void warn(const std::vector<std::string>& warnings) const;
+
   /// The output policy of `--overwrite`: its error names "--overwrite", or what the environment
   /// variable GRANULAR_OVERWRITE_HINT says (a launch file's "overwrite:=true").
   static granular::OutputPolicy outputPolicy(bool overwrite);
@@ -59,7 +83,8 @@ class Tool {
 
  private:
   std::string name_;
-  std::function<std::string()> usage_;
+  std::string about_;
+  std::string epilogue_;
   OptionTable options_;
   bool help_ = false;
 };

@@ -1,5 +1,9 @@
 #pragma once
 
+// The cuboid fitter's configuration: one struct per stage (L-shape, size priors, object points,
+// free space, vehicle split and evidence, the geometric, model and click fits) and CuboidConfig
+// over them. (Over 400 lines: each struct keeps its field list beside it, as every config does.)
+
 #include <array>
 #include <cstddef>
 #include <map>

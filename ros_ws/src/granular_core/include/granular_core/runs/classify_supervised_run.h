@@ -111,6 +111,21 @@ SupervisedRun classifyRegistrationResults(const SupervisedClassifier& classifier
                                           const std::filesystem::path& objects = {},
                                           int threads = 0);
 
+/// What stops `method` from learning from what was given: an objects folder (`objects`) and
+/// registration results (`registration`), as `config` asks for them. The message to show, or
+/// empty when nothing does.
+std::string trainingInputsProblem(SupervisedMethod method, const SupervisedConfig& config,
+                                  bool objects, bool registration);
+
+/// What stops `classifier` (read from the file `model`) from classifying what was given: the
+/// feature settings of `expected` (read from the file `expected_file`; none: the model's own),
+/// an objects folder (`objects`) and registration results (`registration`) that its method does
+/// not take. The message to show, or empty when nothing does.
+std::string supervisedInputsProblem(const SupervisedClassifier& classifier,
+                                    const std::string& model, const SupervisedConfig* expected,
+                                    const std::string& expected_file, bool objects,
+                                    bool registration);
+
 /// Writes `run` as JSON, the records make_report reads:
 ///   {"method", "primary": "label", "labels": [...], "seconds", "seconds_to_train",
 ///    "microseconds_per_object", "registration_seconds", "training": {...},

@@ -13,6 +13,7 @@
 
 #include "granular_core/cuboids/cuboid_fitter.h"
 #include "granular_core/dataset/output_folder.h"
+#include "granular_core/online/object_classifier.h"
 #include "granular_core/segmentation/object_segmentation.h"
 #include "granular_core/supervised/supervised_classifier.h"
 #include "granular_core/tracking/tracking_config.h"
@@ -46,6 +47,13 @@ struct FitCuboidsOptions {
   /// (kept as not sure enough). Null: the zero-shot vehicle decision (CuboidConfig::evidence,
   /// the objects segmentation only) decides which segments get a cuboid.
   const SupervisedClassifier* classifier = nullptr;
+  /// Names each cuboid (either input): the frame's points in the cuboid, in its object frame,
+  /// cropped as extractObjects crops a given box (grown by `naming_padding`, ExtractionConfig's
+  /// padding), go to this classifier, and its label and score replace the fitter's and the
+  /// Background decision's where it classifies the object (enough points for its method), before
+  /// tracking votes on them. Null: the cuboids keep the fitter's labels.
+  const ObjectClassifier* namer = nullptr;
+  Eigen::Vector3d naming_padding = Eigen::Vector3d::Zero();
   /// Tracking (docs/tracking.md): each frame's cuboids, in stamp order, go through a Tracker
   /// with this config, and only the cuboids of its born tracks are written, each with its
   /// track's id, velocity and class so far (label and share; the cuboid's own where no frame
@@ -71,6 +79,8 @@ struct FitCuboidsSummary {
   std::size_t objects = 0;  ///< segments or valid detections given to the fitter
   std::size_t fitted = 0;   ///< cuboids written (the others had too few points, or no track)
   std::size_t called_background = 0;  ///< segments the classifier called Background
+  std::string namer;           ///< the naming classifier's method; empty: none
+  std::size_t not_named = 0;   ///< cuboids it could not classify (kept the fitter's label)
   bool tracked = false;         ///< whether the cuboids went through the tracker
   std::size_t tracks = 0;       ///< tracks born
   std::size_t tentative = 0;    ///< cuboids not written: their track was never born

@@ -25,11 +25,14 @@ class TrackTally:
         self.vehicles, self.tracks = set(), set()
         # track id -> [(predicted label, true label)] over the frames it followed a vehicle
         self.followed = collections.defaultdict(list)
+        self.final_label = {}  # track id -> its label in its last frame (its vote over all)
 
     def add(self, result):
         """One frame's FrameResult (evaluate_frame)."""
         self.truths += len(result.truths) - len(result.ignored_truths)
         self.predictions += len(result.predictions) - len(result.ignored_predictions)
+        for prediction in result.predictions:
+            self.final_label[prediction.id] = prediction.label
         for ti, pi, _, passed, _ in result.pairs:
             if not passed[CRITERION]:
                 continue
@@ -58,6 +61,14 @@ class TrackTally:
             frames[track] = settled
         return frames
 
+    def class_aware_f1_per_track(self):
+        """The paper's criterion's class-aware F1 with each track named by its final class
+        (its label in its last frame: the vote over all its frames) in every frame."""
+        tp = sum(counts_as(self.final_label[track], true_label, self.class_map)
+                 for track, labels in self.followed.items() for _, true_label in labels)
+        total = self.truths + self.predictions
+        return 2.0 * tp / total if total else None
+
     def summary(self):
         fp, fn = self.predictions - self.tp, self.truths - self.tp
         settling = self.settling()
@@ -72,6 +83,7 @@ class TrackTally:
             "vehicles_followed": len(self.vehicles), "tracks_following": len(self.tracks),
             "tracks_per_vehicle": len(self.tracks) / len(self.vehicles) if self.vehicles
             else None,
+            "class_aware_f1_per_track": self.class_aware_f1_per_track(),
             "class_settled_tracks": len(settled),
             "frames_to_settle": distribution(settled),
         }

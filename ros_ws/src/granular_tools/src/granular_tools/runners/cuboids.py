@@ -17,6 +17,7 @@ import os
 import time
 
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
+from .pipeline import NAME_METHODS
 from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
                      bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
                      frames_stage, positive_number, run_tool, sensor_option)
@@ -43,6 +44,9 @@ class CuboidsRun(ConfigFolder):
     min_points: int = None      # ... and with at least this many points ...
     labels: tuple = ()          # ... and these labels (none: every label)
     track: bool = False         # track the cuboids (config_dir's tracking.yaml)
+    name_with: str = None       # the classifier that names each cuboid (NAME_METHODS) ...
+    name_models: str = None     # ... its models folder or classifier file ...
+    class_models: str = None    # ... and, for svm_fitness, the models it learnt from
     overwrite: bool = False
 
     def folder(self, name):
@@ -62,6 +66,18 @@ class CuboidsRun(ConfigFolder):
                                "boxes:=segment")
         if self.classifier:
             existing_file(self.classifier, "classifier")
+        if self.name_with and self.name_with not in NAME_METHODS:
+            raise bad_argument(f"name_with must be one of {', '.join(NAME_METHODS)}, got "
+                               f"'{self.name_with}'")
+        if bool(self.name_with) != bool(self.name_models):
+            raise bad_argument("name_with and name_models go together: the classifier and its "
+                               "models folder or file")
+        if self.name_with == "svm_fitness" and not self.class_models:
+            raise bad_argument("name_with svm_fitness needs class_models, the models folder it "
+                               "learnt from")
+        for path in (self.name_models, self.class_models):
+            if path and not os.path.exists(path):
+                raise bad_argument(f"{path} not found")
         if self.models and not os.path.isdir(self.models):
             raise bad_argument(f"models folder {self.models} not found")
         if self.config_dir and not os.path.isdir(self.config_dir):
@@ -77,7 +93,8 @@ class CuboidsRun(ConfigFolder):
 
 def cuboids_stage(run):
     run_tool(fit_command(run, run.folder("frames"), run.folder("cuboids"), run.boxes,
-                         run.method, run.models, run.classifier, run.track),
+                         run.method, run.models, run.classifier, run.track,
+                         (run.name_with, run.name_models, run.class_models)),
              "cuboids (fit_cuboids)")
 
 
@@ -138,6 +155,15 @@ def main(argv=None):
                         help="--boxes segment: the Background decision, a train_classifier file "
                              "trained with Background objects (extract_objects --background); "
                              "the segments it calls Background get no cuboid")
+    parser.add_argument("--name-with", default="", metavar="METHOD",
+                        help="name each cuboid with this classifier (" + ", ".join(NAME_METHODS) +
+                             "): its points cropped in its object frame as a given box's are; "
+                             "its label replaces the fitter's and --classifier's")
+    parser.add_argument("--name-models", default="", metavar="PATH",
+                        help="--name-with: the class models folder (icp, icp_nl, ndt) or the "
+                             "train_classifier file (the others)")
+    parser.add_argument("--class-models", default="", metavar="FOLDER",
+                        help="--name-with svm_fitness: the class models it learnt from")
     parser.add_argument("--track", action="store_true",
                         help="track the cuboids from frame to frame (docs/tracking.md): only "
                              "the cuboids of born tracks are written, with their track ids and "
@@ -171,7 +197,10 @@ def main(argv=None):
             max_range=positive_number(args.max_range, "max_range"),
             min_points=positive_number(args.min_points, "min_points", int),
             labels=tuple(label for label in args.labels.split(",") if label),
-            track=args.track, overwrite=args.overwrite)
+            track=args.track, name_with=args.name_with or None,
+            name_models=resolve(args.name_models or None, args.relative_to),
+            class_models=resolve(args.class_models or None, args.relative_to),
+            overwrite=args.overwrite)
         run(cuboids_run)
         print(f"run_cuboids: done in {time.monotonic() - started:.1f} s; results in "
               f"{cuboids_run.out}")

@@ -25,7 +25,7 @@ from ..evaluation.metrics import ResultsError
 from ..output import (OutputError, OutputFolder, check_output_folder, claimed_folder, resolve,
                       run_main)
 from ..pcd import CloudError
-from . import pipeline
+from . import box_free_evaluation, pipeline
 from .stages import StageError, add_runner_options, bad_argument, failure_marker, run_tool
 
 
@@ -279,6 +279,13 @@ def main(argv=None):
                         help="registration parameter presets of config/classification.yaml, "
                              "comma-separated; each method runs with each (default: "
                              "%(default)s)")
+    parser.add_argument("--boxes", default="detections",
+                        help="detections (the drives' boxes: every method at every N_thresh) "
+                             "or segment (the box-free evaluation: svm_fitness trained on the "
+                             "train drive's box-free objects, then the test drive segmented, "
+                             "fitted, named and tracked without its boxes and scored against "
+                             "them; --methods, --supervised, --presets and --n-thresh unused; "
+                             "docs/tracking.md); default %(default)s")
     parser.add_argument("--config-dir", metavar="FOLDER")
     add_runner_options(parser)
     args = parser.parse_args(argv)
@@ -289,6 +296,15 @@ def main(argv=None):
         train_bags = [resolve(bag, args.relative_to) for bag in args.train_bag.split(",") if bag]
         if not train_bags:
             raise bad_argument("--train-bag: no bag given")
+        if args.boxes not in ("detections", "segment"):
+            raise bad_argument(f"--boxes must be detections or segment, got '{args.boxes}'")
+        if args.boxes == "segment":
+            report_file = box_free_evaluation.evaluate_box_free(
+                train_bags, resolve(args.test_bag, args.relative_to), out,
+                resolve(args.config_dir, args.relative_to), args.overwrite)
+            print(f"run_evaluation: done in {time.monotonic() - started:.1f} s; report: "
+                  f"{os.path.join(os.path.dirname(report_file), 'index.md')}")
+            return 0
         summary = evaluate(train_bags,
                            resolve(args.test_bag, args.relative_to), out,
                            [m for m in args.methods.split(",") if m],

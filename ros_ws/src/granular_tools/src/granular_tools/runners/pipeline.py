@@ -2,7 +2,8 @@
 
 OUT/frames   bag to files (PCD + JSON pairs; clouds only for a bag without detections)
 OUT/cuboids  with boxes "segment": fit_cuboids' cuboids of the box-free segments, labelled
-             unknown (the bag's own boxes are never used)
+             unknown, or named by the classifier --name-with gives (the bag's own boxes are
+             never used)
 OUT/objects  per-object clouds in their own frame, one folder N<thresh> per threshold, cropped
              in the bag's boxes or (boxes "segment") in the fitted cuboids
 OUT/models   one filtered model cloud per class (from OUT/objects/N<models-from>), with pictures;
@@ -25,6 +26,8 @@ from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_op
                      frames_stage, positive_number, run_tool, sensor_option)
 
 STAGES = ("frames", "objects", "models")
+# The classifiers that can name box-free cuboids (fit_cuboids --name-with).
+NAME_METHODS = ("icp", "icp_nl", "ndt", "knn", "svm", "svm_esf", "svm_fitness")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
 BOXES = ("detections", "segment")
 
@@ -45,6 +48,9 @@ class PipelineRun(ConfigFolder):
     sensor_height: float = None  # boxes "segment": the sensor above the road (m) ...
     azimuth_step: float = None   # ... and its angle between returns (deg)
     prior_classes: str = None    # ... and the cuboids' size priors
+    name_with: str = None        # ... and the classifier that names them (run_cuboids') ...
+    name_models: str = None      # ... its models folder or classifier file ...
+    class_models: str = None     # ... and, for svm_fitness, the models it learnt from
 
     @property
     def objects_folder(self):
@@ -71,6 +77,21 @@ class PipelineRun(ConfigFolder):
                                "models can be built: run the stages frames,objects "
                                "(--stages frames,objects), then classify the objects with a "
                                "classifier trained on labelled drives")
+        if self.name_with and self.boxes != "segment":
+            raise bad_argument("name_with names the cuboids of boxes:=segment; the bag's boxes "
+                               "carry their labels")
+        if self.name_with and self.name_with not in NAME_METHODS:
+            raise bad_argument(f"name_with must be one of {', '.join(NAME_METHODS)}, got "
+                               f"'{self.name_with}'")
+        if bool(self.name_with) != bool(self.name_models):
+            raise bad_argument("name_with and name_models go together: the classifier and its "
+                               "models folder or file")
+        if self.name_with == "svm_fitness" and not self.class_models:
+            raise bad_argument("name_with svm_fitness needs class_models, the models folder it "
+                               "learnt from")
+        for path in (self.name_models, self.class_models):
+            if path and not os.path.exists(path):
+                raise bad_argument(f"{path} not found")
         if self.model_method not in ("plain", "icp"):
             raise bad_argument(f"model_method must be plain or icp, got '{self.model_method}'")
         if "frames" in self.stages:
@@ -99,7 +120,8 @@ def pipeline_frames_stage(run):
 def cuboids_stage(run):
     """boxes "segment": the frames' boxes are the cuboids fitted to their segments."""
     run_tool(fit_command(run, os.path.join(run.out, "frames"), os.path.join(run.out, "cuboids"),
-                         "segment"), "cuboids (fit_cuboids)")
+                         "segment", naming=(run.name_with, run.name_models, run.class_models)),
+             "cuboids (fit_cuboids)")
 
 
 def objects_stage(run):
@@ -188,6 +210,14 @@ def main(argv=None):
                              "box-free segments into OUT/cuboids, for bags without boxes; "
                              "stages frames,objects only); default %(default)s")
     add_sensor_options(parser)  # with --boxes segment
+    parser.add_argument("--name-with", default="", metavar="METHOD",
+                        help="--boxes segment: name each cuboid, and so each object, with this "
+                             "classifier (" + ", ".join(NAME_METHODS) + "); default: unknown")
+    parser.add_argument("--name-models", default="", metavar="PATH",
+                        help="--name-with: the class models folder (icp, icp_nl, ndt) or the "
+                             "train_classifier file (the others)")
+    parser.add_argument("--class-models", default="", metavar="FOLDER",
+                        help="--name-with svm_fitness: the class models it learnt from")
     add_runner_options(parser)
     args = parser.parse_args(argv)
     started = time.monotonic()
@@ -208,7 +238,9 @@ def main(argv=None):
             boxes=args.boxes, sensor=sensor_option(args.sensor, args.relative_to),
             sensor_height=positive_number(args.sensor_height, "sensor_height"),
             azimuth_step=positive_number(args.azimuth_step, "azimuth_step"),
-            prior_classes=args.prior_classes or None)
+            prior_classes=args.prior_classes or None, name_with=args.name_with or None,
+            name_models=resolve(args.name_models or None, args.relative_to),
+            class_models=resolve(args.class_models or None, args.relative_to))
         run(pipeline_run)
         print(f"run_pipeline: done in {time.monotonic() - started:.1f} s; results in "
               f"{pipeline_run.out}")

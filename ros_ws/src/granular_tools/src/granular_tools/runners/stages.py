@@ -135,10 +135,11 @@ def sensor_option(sensor, relative_to):
 
 
 def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None,
-                track=False):
+                track=False, naming=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
     config_file(), sensor, sensor_height, azimuth_step, prior_classes and overwrite); `track`
-    tracks the cuboids with the config folder's tracking.yaml."""
+    tracks the cuboids with the config folder's tracking.yaml; `naming` (name_with,
+    name_models, class_models or None) names them with that classifier."""
     command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out", out,
                "--boxes", boxes] + (["--track"] if track else [])
     for option, value in (("--method", method), ("--models", models),
@@ -152,6 +153,14 @@ def fit_command(run, frames, out, boxes, method=None, models=None, classifier=No
                           ("--prior-classes", run.prior_classes),
                           ("--tracking-config",
                            run.config_file("tracking.yaml") if track else None)):
+        command += [option, str(value)] if value is not None else []
+    name_with, name_models, class_models = naming or (None, None, None)
+    for option, value in (("--name-with", name_with), ("--name-models", name_models),
+                          ("--class-models", class_models),
+                          ("--registration-config",
+                           run.config_file("classification.yaml") if name_with else None),
+                          ("--extraction-config",
+                           run.config_file("extraction.yaml") if name_with else None)):
         command += [option, str(value)] if value is not None else []
     return command + (["--overwrite"] if run.overwrite else [])
 

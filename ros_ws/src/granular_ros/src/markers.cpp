@@ -45,7 +45,7 @@ geometry_msgs::Point point(double x, double y, double z) {
 
 visualization_msgs::MarkerArray predictionMarkers(const lgsvl_msgs::Detection3DArray& predicted,
                                                   const std::vector<std::string>& truth,
-                                                  double lifetime) {
+                                                  double lifetime, bool tracks) {
   visualization_msgs::MarkerArray markers;
   visualization_msgs::Marker clear;
   clear.header = predicted.header;
@@ -96,22 +96,47 @@ visualization_msgs::MarkerArray predictionMarkers(const lgsvl_msgs::Detection3DA
     tag.scale.z = 0.7;
     tag.lifetime = ros::Duration(lifetime);
     char text[160];
+    char track[24] = "";
+    if (tracks) {
+      std::snprintf(track, sizeof(track), "#%u ", detection.id);
+    }
     if (wrong) {
-      std::snprintf(text, sizeof(text), "X %s (true: %s)", label.c_str(), true_label.c_str());
+      std::snprintf(text, sizeof(text), "%sX %s (true: %s)", track, label.c_str(),
+                    true_label.c_str());
       tag.color = colour({1.0f, 0.1f, 0.1f});
     } else if (label == "unknown") {
-      std::snprintf(text, sizeof(text), "too few points%s%s", true_label.empty() ? "" : ": ",
-                    true_label.c_str());
+      std::snprintf(text, sizeof(text), "%stoo few points%s%s", track,
+                    true_label.empty() ? "" : ": ", true_label.c_str());
       tag.color = colourOf(label);
       tag.scale.z = 0.4;
     } else {
-      std::snprintf(text, sizeof(text), "%s%s %.2f", label.c_str(),
+      std::snprintf(text, sizeof(text), "%s%s%s %.2f", track, label.c_str(),
                     true_label.empty() ? "" : " ok", detection.score);
       tag.color = colourOf(label);
     }
     tag.text = text;
     markers.markers.push_back(outline);
     markers.markers.push_back(tag);
+    if (tracks) {
+      visualization_msgs::Marker arrow;
+      arrow.header = predicted.header;
+      arrow.ns = "velocities";
+      arrow.id = static_cast<int>(i);
+      arrow.type = visualization_msgs::Marker::ARROW;
+      arrow.action = visualization_msgs::Marker::ADD;
+      arrow.pose.orientation.w = 1.0;
+      const auto& centre = detection.bbox.position.position;
+      const auto& velocity = detection.velocity.linear;
+      const double top = centre.z + half[2];
+      arrow.points = {point(centre.x, centre.y, top),
+                      point(centre.x + velocity.x, centre.y + velocity.y, top)};
+      arrow.scale.x = 0.15;  // shaft diameter, m
+      arrow.scale.y = 0.4;   // head diameter, m
+      arrow.scale.z = 0.6;   // head length, m
+      arrow.color = colourOf(label);
+      arrow.lifetime = ros::Duration(lifetime);
+      markers.markers.push_back(arrow);
+    }
   }
   return markers;
 }

@@ -58,6 +58,7 @@ struct OnlineClassifierParameters {
   double topic_timeout = 5.0;
   double report_interval = 10.0;
   double marker_lifetime = 0.5;
+  bool marker_tracks = false;
   bool track_vote = true;
   double track_forget = 2.0;
 
@@ -79,6 +80,7 @@ struct OnlineClassifierParameters {
     visit("topic_timeout", self.topic_timeout, positive("s"));
     visit("report_interval", self.report_interval, positive("s"));
     visit("marker_lifetime", self.marker_lifetime, nonNegative("s"));
+    visit("marker_tracks", self.marker_tracks);
     visit("track_vote", self.track_vote);
     visit("track_forget", self.track_forget, positive("s"));
   }
@@ -140,6 +142,7 @@ class OnlineClassifier {
       : classifier_(makeClassifier(parameters)),
         min_points_(parameters.min_points),
         marker_lifetime_(parameters.marker_lifetime),
+        marker_tracks_(parameters.marker_tracks),
         track_votes_(parameters.track_vote
                          ? std::optional<granular::TrackVotes>(parameters.track_forget)
                          : std::nullopt),
@@ -236,7 +239,8 @@ class OnlineClassifier {
     output.header.frame_id = cloud_message->header.frame_id;
     detections_publisher_.publish(output);
     if (markers_publisher_.getNumSubscribers() > 0) {
-      markers_publisher_.publish(granular_ros::predictionMarkers(output, truth, marker_lifetime_));
+      markers_publisher_.publish(granular_ros::predictionMarkers(output, truth, marker_lifetime_,
+                                                                  marker_tracks_));
     }
     const double milliseconds =
         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -329,6 +333,7 @@ class OnlineClassifier {
   granular::ExtractionConfig extraction_;
   std::size_t min_points_;
   double marker_lifetime_;
+  bool marker_tracks_;
   // One vote per frame per detection id (~track_vote); unset: each frame's own label.
   std::optional<granular::TrackVotes> track_votes_;
   double topic_timeout_;

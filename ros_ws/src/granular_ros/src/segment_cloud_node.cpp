@@ -1,8 +1,10 @@
 // segment_cloud: boxes for clouds without detections (config/ground.yaml: the ground;
 // config/segmentation.yaml: the segments; config/cuboids.yaml under ~cuboids: a full-vehicle
-// cuboid fitted to each, and the zero-shot vehicle decision of ~cuboids/evidence on it). Each
-// cloud on ~input becomes a Detection3DArray on ~output, one cuboid labelled "unknown" per
-// segment judged a vehicle, for the online classifier to classify.
+// cuboid fitted to each, touching cars cut apart and the zero-shot vehicle decision of
+// ~cuboids/evidence on each, as fit_cuboids does; with ~track, config/tracking.yaml under
+// ~tracking: the tracker's ids and velocities). Each cloud on ~input becomes a
+// Detection3DArray on ~output, one cuboid labelled "unknown" per segment judged a vehicle (per
+// born track's cuboid, when tracking), for the online classifier to classify.
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -10,13 +12,14 @@
 #include <string>
 
 #include <granular_core/cuboids/cuboid_fitter.h>
-#include <granular_core/cuboids/segment_views.h>
-#include <granular_core/cuboids/vehicle_evidence.h>
+#include <granular_core/cuboids/frame_cuboids.h>
 #include <granular_core/ground/sensor.h>
 #include <granular_core/segmentation/object_segmentation.h>
+#include <granular_core/tracking/tracker.h>
 #include <lgsvl_msgs/Detection3DArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Float32.h>
 
 #include "granular_ros/conversions.h"
 #include "granular_ros/latency.h"
@@ -27,12 +30,18 @@ namespace {
 // The node's parameters: the ground's under ~ground (config/ground.yaml), the cuboids' under
 // ~cuboids (config/cuboids.yaml), the segmentation's (config/segmentation.yaml), the sensor's
 // under ~sensor when given (config/sensors/NAME.yaml: its height and azimuth step over the
-// ground's and the segmentation's) and its own.
+// ground's and the segmentation's), the tracker's under ~tracking (config/tracking.yaml) and its
+// own.
 struct SegmentCloudParameters {
   granular::GroundConfig ground;
   granular::CuboidConfig cuboids;
   granular::SegmentationStageConfig segmentation;
   granular::SensorConfig sensor;
+  granular::TrackingConfig tracking;
+  /// Publish the cuboids of born tracks only, each with its track's id and velocity, instead
+  /// of every cuboid numbered within its frame.
+  bool track = false;
+  int threads = 1;  ///< threads fitting a frame's segments (0: every core)
   /// Measure the sensor's height and azimuth step from the first cloud (online.launch
   /// sensor:=auto) instead of taking ~sensor's.
   bool sensor_auto = false;
@@ -44,6 +53,9 @@ struct SegmentCloudParameters {
     visit("cuboids", self.cuboids);
     granular::SegmentationStageConfig::fields(self.segmentation, visit);
     visit("sensor", self.sensor);
+    visit("tracking", self.tracking);
+    visit("track", self.track);
+    visit("threads", self.threads, granular::config::atLeast(0, "threads"));
     visit("sensor_auto", self.sensor_auto);
     visit("report_interval", self.report_interval, granular::config::positive("s"));
   }
@@ -53,6 +65,8 @@ void validate(const SegmentCloudParameters& parameters) {
   granular::validate(parameters.sensor);
   granular::validate(parameters.ground);
   granular::validate(parameters.segmentation);
+  granular::validate(parameters.cuboids);
+  granular::validate(parameters.tracking);
   granular::config::validateFields(parameters);
   if (parameters.cuboids.method == granular::CuboidMethod::kModel) {
     // The class is the online classifier's job; the node has no models.
@@ -72,14 +86,19 @@ class SegmentCloud {
     }
     config_ = parameters.segmentation;
     ground_config_ = parameters.ground;
-    evidence_config_ = parameters.cuboids.evidence;
+    cuboid_config_ = parameters.cuboids;
+    threads_ = parameters.threads;
+    if (parameters.track) {
+      tracking_config_ = parameters.tracking;
+      tracker_.emplace(*tracking_config_);
+    }
     if (!parameters.sensor_auto) {
       segmenter_ = std::make_unique<granular::FrameSegmenter>(ground_config_, config_);
     }
     fitter_ = granular::makeCuboidFitter(parameters.cuboids, {});
-    free_space_config_ = parameters.cuboids.free_space;
     report_interval_ = parameters.report_interval;
     publisher_ = private_node.advertise<lgsvl_msgs::Detection3DArray>("output", 10);
+    latency_publisher_ = private_node.advertise<std_msgs::Float32>("latency_ms", 10);
     subscriber_ = private_node.subscribe("input", 2, &SegmentCloud::onCloud, this);
     timer_ = node.createSteadyTimer(ros::WallDuration(report_interval_), [this](const auto&) {
       if (latency_.frames() > 0) {
@@ -89,7 +108,8 @@ class SegmentCloud {
     ROS_INFO_STREAM("segment_cloud: "
                     << granular::config::enumName(config_.method) << " segmentation, "
                     << granular::config::enumName(parameters.cuboids.method)
-                    << " cuboids, on " << subscriber_.getTopic());
+                    << " cuboids" << (tracker_ ? ", tracked" : "") << ", on "
+                    << subscriber_.getTopic());
   }
 
   ~SegmentCloud() { ROS_INFO_STREAM("segment_cloud: " << latency_.total()); }
@@ -120,29 +140,60 @@ class SegmentCloud {
                                            << message->header.frame_id << "': " << check.problem);
       }
     }
-    const granular::SegmentViews views(cloud, segmentation, config_, free_space_config_);
-    std::optional<granular::VehicleEvidence> evidence;
-    if (evidence_config_.enabled && config_.method == granular::SegmentationMethod::kObjects) {
-      evidence.emplace(cloud, segmentation.ground.plane, evidence_config_,
-                       config_.objects.azimuth_step_deg);
-    }
-    for (std::size_t i = 0; i < segmentation.segments.size(); ++i) {
-      const granular::Segment& segment = segmentation.segments[i];
-      const granular::ObjectView view = views.view(i);
-      // A segment too thin for a cuboid keeps its own box, unless only vehicles are kept.
-      const std::optional<granular::FittedCuboid> cuboid = fitter_->fit(view);
-      if (evidence && (!cuboid || evidence->judge(evidence->measure(view.points, cuboid->box)) !=
-                                      granular::VehicleVerdict::kVehicle)) {
-        continue;
+    const granular::FrameCuboids cuboids = granular::fitSegmentCuboids(
+        cloud, segmentation, config_, cuboid_config_, *fitter_, threads_);
+    if (tracker_) {
+      publishTracks(message->header, cuboids, output);
+    } else {
+      for (const granular::FrameCuboid& kept : cuboids.kept) {
+        output.detections.push_back(granular_ros::toMessage(
+            kept.cuboid.box, "unknown", static_cast<std::uint32_t>(kept.id), 1.0f));
       }
-      lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
-          cuboid ? cuboid->box : segment.box, "unknown", static_cast<std::uint32_t>(i), 1.0f);
+    }
+    for (lgsvl_msgs::Detection3D& detection : output.detections) {
       detection.header = message->header;
-      output.detections.push_back(detection);
     }
     publisher_.publish(output);
-    latency_.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                           start).count());
+    const double milliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count();
+    latency_.add(milliseconds);
+    std_msgs::Float32 latency;
+    latency.data = static_cast<float>(milliseconds);
+    latency_publisher_.publish(latency);
+  }
+
+  // The cuboids of the tracks born by this frame that have one in it, each with its track's
+  // id and x-y velocity (m/s, sensor frame) and turned to its smoothed yaw; unborn tracks and
+  // coasting ones are not published (docs/tracking.md). A stamp not after the last one (a
+  // looped bag) starts the tracks afresh.
+  void publishTracks(const std_msgs::Header& header, const granular::FrameCuboids& cuboids,
+                     lgsvl_msgs::Detection3DArray& output) {
+    std::vector<granular::Observation> observations;
+    for (const granular::FrameCuboid& kept : cuboids.kept) {
+      observations.push_back({kept.cuboid.box, kept.cuboid.label, kept.cuboid.score});
+    }
+    std::vector<granular::Track> tracks;
+    try {
+      tracks = tracker_->update(header.stamp.toSec(), observations);
+    } catch (const std::invalid_argument& error) {
+      ROS_WARN_STREAM("segment_cloud: " << error.what() << "; the tracks start afresh");
+      tracker_.emplace(*tracking_config_);
+      tracks = tracker_->update(header.stamp.toSec(), observations);
+    }
+    for (const granular::Track& track : tracks) {
+      if (!track.observation) {
+        continue;
+      }
+      const granular::OrientedBox& box = cuboids.kept[*track.observation].cuboid.box;
+      lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
+          granular::OrientedBox(box.centre(),
+                                granular::turnToTrack(track, box) * box.orientation(), box.size()),
+          "unknown", track.id, 1.0f);
+      detection.velocity.linear.x = track.velocity.x();
+      detection.velocity.linear.y = track.velocity.y();
+      output.detections.push_back(detection);
+    }
   }
 
   // sensor:=auto: the sensor measured from `cloud`, the segmenter built with it; a cloud that
@@ -173,11 +224,14 @@ class SegmentCloud {
   granular::GroundConfig ground_config_;
   std::unique_ptr<granular::FrameSegmenter> segmenter_;
   std::unique_ptr<granular::CuboidFitter> fitter_;
-  granular::FreeSpaceConfig free_space_config_;
-  granular::VehicleEvidenceConfig evidence_config_;
+  granular::CuboidConfig cuboid_config_;
+  int threads_ = 1;
+  std::optional<granular::TrackingConfig> tracking_config_;
+  std::optional<granular::Tracker> tracker_;
   double report_interval_ = 10.0;
   ros::Subscriber subscriber_;
   ros::Publisher publisher_;
+  ros::Publisher latency_publisher_;
   ros::SteadyTimer timer_;
   granular_ros::LatencyStats latency_;
 };
@@ -189,12 +243,16 @@ constexpr char kHelp[] =
     "\n"
     "Boxes for clouds without detections: each cloud on ~input (sensor_msgs/PointCloud2) becomes a\n"
     "Detection3DArray on ~output, one full-vehicle cuboid labelled \"unknown\" per segment above the\n"
-    "ground that the zero-shot vehicle decision keeps (~cuboids/evidence), for the online\n"
-    "classifier. Parameters: the ground's under ~ground (config/ground.yaml), the sensor's under\n"
-    "~sensor (config/sensors/NAME.yaml), the cuboids' under ~cuboids (config/cuboids.yaml), the\n"
-    "segmentation's\n"
-    "(config/segmentation.yaml) and its own (docs/segmentation.md); a misspelt one stops it at\n"
-    "start-up, naming the known ones. Needs a ROS master.\n"
+    "ground that the zero-shot vehicle decision keeps (~cuboids/evidence; touching cars cut apart\n"
+    "first, ~cuboids/split), as fit_cuboids makes them, for the online classifier, and the cloud's\n"
+    "time in ms on ~latency_ms. With ~track true, only the cuboids of born tracks (~tracking:\n"
+    "config/tracking.yaml), each with its track's id and velocity (m/s, x-y in the sensor frame);\n"
+    "a track is published from its birth on (docs/tracking.md). Parameters: the ground's under\n"
+    "~ground (config/ground.yaml), the sensor's under ~sensor (config/sensors/NAME.yaml), the\n"
+    "cuboids' under ~cuboids (config/cuboids.yaml), the segmentation's (config/segmentation.yaml),\n"
+    "the tracker's under ~tracking and its own (~track; ~threads: threads fitting a frame's\n"
+    "segments, default 1; docs/online.md); a misspelt one stops it at start-up, naming the known\n"
+    "ones. Needs a ROS master.\n"
     "\n"
     "Exit status: 0 shut down, 1 bad parameters at start-up.\n";
 

@@ -11,11 +11,9 @@
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
 #include "granular_core/dataset/pcd_io.h"
+#include "granular_core/cuboids/frame_cuboids.h"
 #include "granular_core/cuboids/segment_views.h"
-#include "granular_core/cuboids/vehicle_evidence.h"
-#include "granular_core/cuboids/vehicle_split.h"
 #include "granular_core/extraction/extract_objects.h"
-#include "granular_core/parallel.h"
 #include "granular_core/tracking/tracker.h"
 #include "background_decision.h"
 #include "run_helpers.h"
@@ -37,16 +35,6 @@ DetectionsHeader headerOfStamp(const std::string& stamp) {
   return header;
 }
 
-// One object for the fitter, and the id its cuboid gets.
-struct Input {
-  std::int64_t id = 0;
-  ObjectView view;
-  /// The Background decision's class and score for a segment it kept: the cuboid's label
-  /// where the fit gives none (kUnknownLabel), unless that class is Background itself (a
-  /// segment kept because the answer was not sure enough, or too far and sparse to judge).
-  std::optional<runs::BackgroundDecision> decision;
-};
-
 // A frame's cuboids, written once the tracks that may still be born from them have been.
 struct PendingFrame {
   std::string stamp;
@@ -55,15 +43,12 @@ struct PendingFrame {
   std::vector<Detection> written;  // those to write: with tracking, the tracks' only
 };
 
-// `cuboid` as the track's: its id, velocity and class (where a frame voted), turned about the
-// sensor's z to the track's smoothed yaw (by at most 90 degrees: its own front kept). The
-// smoothed yaw misses the paper's 10 degrees less often than the frame's own (simulated train
-// drive: MOTA 0.743 -> 0.760, docs/tracking.md); the centre stays the fitted one.
+// `cuboid` as the track's: its id, velocity and class (where a frame voted), turned to the
+// track's smoothed yaw (turnToTrack).
 Detection trackCuboid(const Track& track, Detection cuboid) {
-  const double yaw = OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size).yaw();
-  const double turn = std::remainder(track.box.yaw() - yaw, M_PI);
   cuboid.orientation =
-      Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ())) * cuboid.orientation;
+      turnToTrack(track, OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size)) *
+      cuboid.orientation;
   cuboid.id = track.id;
   cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
   if (track.share > 0.0) {
@@ -256,13 +241,16 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     const Cloud cloud = readPcd(frames / "pcd" / (stamp + ".pcd"));
     const auto frame_begin = std::chrono::steady_clock::now();
 
-    std::vector<Input> inputs;
+    // The objects fitted (given boxes, or segments the Background decision keeps) and the
+    // Background decision on each (segments with a classifier only).
+    std::vector<FrameObject> objects;
+    std::vector<runs::BackgroundDecision> decisions;
     ObjectSegmentation segmentation;
     std::optional<SegmentViews> segment_views;
     std::optional<FreeSpace> free_space;
-    // Segments without a classifier: the zero-shot vehicle decision on each fitted cuboid.
-    std::optional<VehicleEvidence> evidence;
-    std::size_t split_ids = 0;
+    FrameCuboidsOptions fit_options;
+    fit_options.threads = options.threads;
+    FrameCuboids cuboids;
     // Given boxes, the Background decision on segments, or the namer crop the frame box by box.
     std::optional<FrameCropper> cropper;
     if (options.boxes != CuboidInputs::kSegments || options.classifier != nullptr ||
@@ -276,40 +264,24 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
                                options.ground, header.frame_id, stamp,
                                options.allow_other_frames, summary.ground_not_found);
       }
-      segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
-      if (options.classifier == nullptr && config.evidence.enabled &&
-          options.segmentation.method == SegmentationMethod::kObjects) {
-        evidence.emplace(cloud, segmentation.ground.plane, config.evidence,
-                         options.segmentation.objects.azimuth_step_deg);
-      }
-      for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
-        Input input;
-        if (options.classifier != nullptr) {
-          input.decision = runs::decideBackground(*options.classifier, *cropper,
-                                                  segmentation.segments[s].box,
-                                                  options.segmentation.background);
-          if (input.decision->dropped) {
+      if (options.classifier == nullptr) {
+        // The zero-shot vehicle decision, as the online node makes it.
+        cuboids = fitSegmentCuboids(cloud, segmentation, options.segmentation, config, *fitter,
+                                    options.threads);
+      } else {
+        segment_views.emplace(cloud, segmentation, options.segmentation, config.free_space);
+        for (std::size_t s = 0; s < segmentation.segments.size(); ++s) {
+          const runs::BackgroundDecision decision =
+              runs::decideBackground(*options.classifier, *cropper, segmentation.segments[s].box,
+                                     options.segmentation.background);
+          if (decision.dropped) {
             ++summary.called_background;
             continue;
           }
+          objects.push_back({static_cast<std::int64_t>(s), segment_views->view(s)});
+          decisions.push_back(decision);
         }
-        input.id = static_cast<std::int64_t>(s);
-        input.view = segment_views->view(s);
-        if (!evidence) {
-          inputs.push_back(std::move(input));
-          continue;
-        }
-        // With the vehicle decision, touching cars are cut apart first; a piece after the
-        // first takes an id after the frame's segments.
-        std::vector<ObjectView> pieces = splitVehicles(input.view, config.split);
-        for (std::size_t p = 0; p < pieces.size(); ++p) {
-          Input piece;
-          piece.id = p == 0 ? input.id
-                            : static_cast<std::int64_t>(segmentation.segments.size() +
-                                                        split_ids++);
-          piece.view = std::move(pieces[p]);
-          inputs.push_back(std::move(piece));
-        }
+        cuboids = fitFrameObjects(objects, *fitter, fit_options);
       }
     } else {
       std::size_t inliers = 0;
@@ -332,62 +304,44 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
         for (const PointXYZIT& point : cropper->crop(*box, margin)) {
           grown.push_back(to_sensor * Eigen::Vector3d(point.x, point.y, point.z));
         }
-        Input input;
-        input.id = detection.id;
-        input.view.ground = ground;
-        input.view.points = isolateObject(grown, ground, box->centre(), box->size(), config);
-        input.view.free_space = &*free_space;
-        inputs.push_back(std::move(input));
+        FrameObject object;
+        object.id = detection.id;
+        object.view.ground = ground;
+        object.view.points = isolateObject(grown, ground, box->centre(), box->size(), config);
+        object.view.free_space = &*free_space;
+        objects.push_back(std::move(object));
       }
+      cuboids = fitFrameObjects(objects, *fitter, fit_options);
     }
-
-    // The objects over the threads, each timed alone.
-    std::vector<std::optional<FittedCuboid>> fitted(inputs.size());
-    std::vector<double> milliseconds(inputs.size(), 0.0);
-    // The vehicle decision on each fitted cuboid over the same threads (measuring reads the
-    // frame's scan only); not timed as the fit.
-    std::vector<VehicleVerdict> verdicts(inputs.size(), VehicleVerdict::kVehicle);
-    parallelFor(inputs.size(), options.threads, 1, [&](std::size_t i) {
-      const auto begin = std::chrono::steady_clock::now();
-      fitted[i] = fitter->fit(inputs[i].view);
-      milliseconds[i] =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
-              .count();
-      if (evidence && fitted[i]) {
-        verdicts[i] = evidence->judge(evidence->measure(inputs[i].view.points, fitted[i]->box));
-      }
-    });
 
     summary.frame_milliseconds.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_begin)
             .count());
-
+    summary.objects += cuboids.fitted_objects;
+    summary.milliseconds.insert(summary.milliseconds.end(), cuboids.milliseconds.begin(),
+                                cuboids.milliseconds.end());
+    for (const auto& [verdict, count] : cuboids.not_vehicles) {
+      summary.not_vehicles[verdict] += count;
+    }
     PendingFrame pending_frame{stamp, header, {}, {}};
     std::vector<Observation> observations;
-    for (std::size_t i = 0; i < inputs.size(); ++i) {
-      ++summary.objects;
-      summary.milliseconds.push_back(milliseconds[i]);
-      if (!fitted[i]) {
-        continue;
-      }
-      if (verdicts[i] != VehicleVerdict::kVehicle) {
-        ++summary.not_vehicles[verdictName(verdicts[i])];
-        continue;
-      }
+    for (const FrameCuboid& kept : cuboids.kept) {
       Detection cuboid;
-      cuboid.id = inputs[i].id;
-      cuboid.label = fitted[i]->label;
-      cuboid.score = fitted[i]->score;
-      if (cuboid.label == kUnknownLabel && inputs[i].decision &&
-          inputs[i].decision->label != options.segmentation.background.label) {
-        cuboid.label = inputs[i].decision->label;
-        cuboid.score = inputs[i].decision->score;
+      cuboid.id = kept.id;
+      cuboid.label = kept.cuboid.label;
+      cuboid.score = kept.cuboid.score;
+      // The Background decision's class where the fit gives none, unless that class is
+      // Background itself (a segment kept as not sure enough, or too far and sparse to judge).
+      if (cuboid.label == kUnknownLabel && !decisions.empty() &&
+          decisions[kept.object].label != options.segmentation.background.label) {
+        cuboid.label = decisions[kept.object].label;
+        cuboid.score = decisions[kept.object].score;
       }
-      cuboid.centre = fitted[i]->box.centre();
-      cuboid.orientation = fitted[i]->box.orientation();
-      cuboid.size = fitted[i]->box.size();
+      cuboid.centre = kept.cuboid.box.centre();
+      cuboid.orientation = kept.cuboid.box.orientation();
+      cuboid.size = kept.cuboid.box.size();
       pending_frame.fitted.push_back(cuboid);
-      observations.push_back(Observation{fitted[i]->box, cuboid.label, cuboid.score});
+      observations.push_back(Observation{kept.cuboid.box, cuboid.label, cuboid.score});
     }
     if (options.namer != nullptr) {
       summary.not_named += nameCuboids(*options.namer, *cropper, options.naming_padding,

@@ -28,6 +28,11 @@ OrientedBox boxOnGround(const Eigen::Vector2d& centre, double z, double yaw,
 
 }  // namespace
 
+Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed) {
+  const double turn = std::remainder(track.box.yaw() - observed.yaw(), M_PI);
+  return Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()));
+}
+
 Tracker::Tracker(const TrackingConfig& config) : config_(config) { validate(config_); }
 
 OrientedBox Tracker::predictedBox(const State& state) const {

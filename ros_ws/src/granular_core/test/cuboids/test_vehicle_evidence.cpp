@@ -1,84 +1,24 @@
 // VehicleEvidence: a canopy that rays pass through is no vehicle, an opaque box of the same
 // size is one, on a scan cast ray by ray.
 #include <cmath>
-#include <optional>
-#include <random>
 
 #include <gtest/gtest.h>
 
 #include "granular_core/cuboids/vehicle_evidence.h"
+#include "support/ray_cast.h"
 
 namespace granular {
 namespace {
 
 constexpr double kSensorHeight = 1.73;
-constexpr double kDeg = M_PI / 180.0;
 constexpr double kAzimuthStepDeg = 0.2;
 
-// An axis-aligned box in the sensor frame, standing on the road.
-struct Block {
-  Eigen::Vector3d low, high;
-  /// Per metre inside it, the chance of a return (0: opaque, its faces return every ray).
-  double density = 0.0;
-};
+using testing_support::Block;
 
-// Where the ray `direction` from the origin enters and leaves `block`, if it meets it.
-std::optional<std::pair<double, double>> crossing(const Eigen::Vector3d& direction,
-                                                  const Block& block) {
-  double enter = 0.0, leave = 1e9;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (std::abs(direction[axis]) < 1e-12) {
-      if (0.0 < block.low[axis] || 0.0 > block.high[axis]) {
-        return std::nullopt;
-      }
-      continue;
-    }
-    double a = block.low[axis] / direction[axis], b = block.high[axis] / direction[axis];
-    if (a > b) {
-      std::swap(a, b);
-    }
-    enter = std::max(enter, a);
-    leave = std::min(leave, b);
-  }
-  if (enter >= leave) {
-    return std::nullopt;
-  }
-  return std::make_pair(enter, leave);
-}
-
-// A 64-ring scan (-24.9 to 2 degrees, kAzimuthStepDeg apart, 60 degrees either side of +x) of
-// a flat road kSensorHeight below the sensor and `blocks`. A volume returns a ray at a random
-// free path inside it, or lets it through to the road.
-Cloud scan(const std::vector<Block>& blocks, unsigned seed = 1) {
-  std::mt19937 random(seed);
-  Cloud cloud;
-  for (int ring = 0; ring < 64; ++ring) {
-    const double elevation = (-24.9 + ring * 26.9 / 63.0) * kDeg;
-    for (double azimuth = -60.0; azimuth <= 60.0; azimuth += kAzimuthStepDeg) {
-      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth * kDeg),
-                                      std::cos(elevation) * std::sin(azimuth * kDeg),
-                                      std::sin(elevation));
-      double range = direction.z() < 0.0 ? -kSensorHeight / direction.z() : 1e9;
-      for (const Block& block : blocks) {
-        if (const auto through = crossing(direction, block)) {
-          const double hit =
-              block.density > 0.0
-                  ? through->first +
-                        std::exponential_distribution<double>(block.density)(random)
-                  : through->first;
-          if (hit < through->second || block.density == 0.0) {
-            range = std::min(range, hit);
-          }
-        }
-      }
-      if (range > 80.0) {
-        continue;
-      }
-      const Eigen::Vector3d p = direction * range;
-      cloud.push_back(PointXYZIT(float(p.x()), float(p.y()), float(p.z()), 0.0f, 0.0));
-    }
-  }
-  return cloud;
+// The scan of `blocks` by a 64-ring sensor kSensorHeight above the road, kAzimuthStepDeg
+// between returns, 60 degrees either side of +x.
+Cloud scan(const std::vector<Block>& blocks) {
+  return testing_support::rayCastScan(blocks, {kSensorHeight, kAzimuthStepDeg, 60.0});
 }
 
 GroundPlane flatRoad() {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "granular_core/geometry/oriented_box.h"
 #include "granular_core/tracking/tracking_config.h"
@@ -41,6 +42,14 @@ struct Track {
   /// frames' inputs. An offline user may report the track there too; empty otherwise.
   std::vector<std::size_t> earlier_observations;
 };
+
+/// The turn about the sensor's z, by at most 90 degrees (the box's own front kept), that brings
+/// `observed` (the box of a track's observation) to the track's smoothed yaw. fit_cuboids
+/// writes and segment_cloud publishes a tracked cuboid so turned, its centre and size the
+/// observation's: the smoothed yaw misses the paper's 10 degrees less often than the frame's
+/// own (simulated train drive: MOTA 0.743 -> 0.760, docs/tracking.md), and the fitted centre
+/// less often than the filter's, which lags the cuboid's jumps.
+Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed);
 
 /// Multi-object tracking of cuboids on the ground plane, frame by frame (docs/tracking.md): a
 /// constant-velocity Kalman filter per track (x, y, vx, vy), the least-cost assignment of

@@ -16,14 +16,22 @@ def _nanoseconds(header):
 
 
 def _boxes(message):
-    """(x, y, yaw, length, width) of each detection's box."""
+    """(x, y, yaw, length, width, id) of each detection's box."""
     boxes = []
     for detection in message.detections:
         pose, size = detection.bbox.position, detection.bbox.size
         q = pose.orientation
         yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-        boxes.append((pose.position.x, pose.position.y, yaw, size.x, size.y))
+        boxes.append((pose.position.x, pose.position.y, yaw, size.x, size.y, detection.id))
     return boxes
+
+
+def _inside(centres, x, y, yaw, length, width):
+    """Which of `centres` (n x 2) lie in the footprint of the box (x, y, yaw, length, width)."""
+    offset = centres - (x, y)
+    along = offset @ (math.cos(yaw), math.sin(yaw))
+    across = offset @ (-math.sin(yaw), math.cos(yaw))
+    return (np.abs(along) <= length / 2) & (np.abs(across) <= width / 2)
 
 
 class OnlineMonitor:
@@ -142,13 +150,32 @@ class OnlineMonitor:
             if abs(stamps[nearest] - stamp) > slop_ns:
                 continue
             centres = np.array([(x, y) for x, y, *_ in segments[nearest][1]]).reshape(-1, 2)
-            for x, y, yaw, length, width in boxes:
+            for x, y, yaw, length, width, _ in boxes:
                 if math.hypot(x, y) > max_range:
                     continue
                 total += 1
-                offset = centres - (x, y)
-                along = offset @ (math.cos(yaw), math.sin(yaw))
-                across = offset @ (-math.sin(yaw), math.cos(yaw))
-                found += bool(np.any((np.abs(along) <= length / 2) &
-                                     (np.abs(across) <= width / 2)))
+                found += bool(np.any(_inside(centres, x, y, yaw, length, width)))
         return found, total
+
+    def segment_ids(self, max_range=25.0, slop_ns=10_000_000):
+        """True vehicle id -> the ids of the segments found in its footprint (see
+        segmentation_recall), one list per frame with a segmentation message, in stamp order:
+        with tracking, a vehicle followed well keeps one id."""
+        segments = sorted(self.segments)
+        if not segments:
+            return {}
+        stamps = np.array([stamp for stamp, _ in segments])
+        followed = {}
+        for stamp, boxes in sorted(self.truth):
+            nearest = int(np.argmin(np.abs(stamps - stamp)))
+            if abs(stamps[nearest] - stamp) > slop_ns:
+                continue
+            found = segments[nearest][1]
+            centres = np.array([(x, y) for x, y, *_ in found]).reshape(-1, 2)
+            for x, y, yaw, length, width, vehicle in boxes:
+                if math.hypot(x, y) > max_range:
+                    continue
+                inside = _inside(centres, x, y, yaw, length, width)
+                followed.setdefault(vehicle, []).append(
+                    [found[i][5] for i in np.flatnonzero(inside)])
+        return followed

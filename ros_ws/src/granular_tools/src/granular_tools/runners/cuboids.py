@@ -17,10 +17,10 @@ import os
 import time
 
 from ..output import OutputError, check_output_folder, claimed_folder, resolve, run_main
-from .pipeline import NAME_METHODS
-from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
-                     bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
-                     frames_stage, positive_number, run_tool, sensor_option)
+from .stages import (NAME_METHODS, ConfigFolder, StageError, add_runner_options,
+                     add_sensor_options, bad_argument, bag_frames_config, check_naming,
+                     existing_file, failure_marker, fit_command, frames_stage, positive_number,
+                     run_tool, sensor_option)
 
 BOXES = ("segment", "detections")
 METHODS = ("geometric", "model", "rectangle")
@@ -67,18 +67,7 @@ class CuboidsRun(ConfigFolder):
                                "boxes:=segment")
         if self.classifier:
             existing_file(self.classifier, "classifier")
-        if self.name_with and self.name_with not in NAME_METHODS:
-            raise bad_argument(f"name_with must be one of {', '.join(NAME_METHODS)}, got "
-                               f"'{self.name_with}'")
-        if bool(self.name_with) != bool(self.name_models):
-            raise bad_argument("name_with and name_models go together: the classifier and its "
-                               "models folder or file")
-        if self.name_with == "svm_fitness" and not self.class_models:
-            raise bad_argument("name_with svm_fitness needs class_models, the models folder it "
-                               "learnt from")
-        for path in (self.name_models, self.class_models):
-            if path and not os.path.exists(path):
-                raise bad_argument(f"{path} not found")
+        check_naming(self.name_with, self.name_models, self.class_models)
         if self.models and not os.path.isdir(self.models):
             raise bad_argument(f"models folder {self.models} not found")
         if self.config_dir and not os.path.isdir(self.config_dir):

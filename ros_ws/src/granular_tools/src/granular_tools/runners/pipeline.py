@@ -21,13 +21,12 @@ import time
 from ..models import pictures
 from ..output import (Interrupted, OutputError, check_output_folder, claimed_folder, resolve,
                       run_main)
-from .stages import (ConfigFolder, StageError, add_runner_options, add_sensor_options,
-                     bad_argument, bag_frames_config, existing_file, failure_marker, fit_command,
-                     frames_stage, positive_number, run_tool, sensor_option)
+from .stages import (NAME_METHODS, ConfigFolder, StageError, add_runner_options,
+                     add_sensor_options, bad_argument, bag_frames_config, check_naming,
+                     existing_file, failure_marker, fit_command, frames_stage, positive_number,
+                     run_tool, sensor_option)
 
 STAGES = ("frames", "objects", "models")
-# The classifiers that can name box-free cuboids (fit_cuboids --name-with).
-NAME_METHODS = ("icp", "icp_nl", "ndt", "knn", "svm", "svm_esf", "svm_fitness")
 STAGE_FOLDERS = {"frames": "frames", "objects": "objects", "models": "models"}
 BOXES = ("detections", "segment")
 
@@ -80,18 +79,7 @@ class PipelineRun(ConfigFolder):
         if self.name_with and self.boxes != "segment":
             raise bad_argument("name_with names the cuboids of boxes:=segment; the bag's boxes "
                                "carry their labels")
-        if self.name_with and self.name_with not in NAME_METHODS:
-            raise bad_argument(f"name_with must be one of {', '.join(NAME_METHODS)}, got "
-                               f"'{self.name_with}'")
-        if bool(self.name_with) != bool(self.name_models):
-            raise bad_argument("name_with and name_models go together: the classifier and its "
-                               "models folder or file")
-        if self.name_with == "svm_fitness" and not self.class_models:
-            raise bad_argument("name_with svm_fitness needs class_models, the models folder it "
-                               "learnt from")
-        for path in (self.name_models, self.class_models):
-            if path and not os.path.exists(path):
-                raise bad_argument(f"{path} not found")
+        check_naming(self.name_with, self.name_models, self.class_models)
         if self.model_method not in ("plain", "icp"):
             raise bad_argument(f"model_method must be plain or icp, got '{self.model_method}'")
         if "frames" in self.stages:

@@ -134,6 +134,28 @@ def sensor_option(sensor, relative_to):
     return sensor or None
 
 
+# The classifiers that can name box-free cuboids (fit_cuboids --name-with).
+NAME_METHODS = ("icp", "icp_nl", "ndt", "knn", "svm", "svm_esf", "svm_fitness")
+
+
+def check_naming(name_with, name_models, class_models):
+    """A StageError (exit 2) for naming arguments that do not go together: the classifier that
+    names each box-free cuboid (fit_cuboids --name-with), its models and, for svm_fitness, the
+    class models it learnt from."""
+    if name_with and name_with not in NAME_METHODS:
+        raise bad_argument(f"name_with must be one of {', '.join(NAME_METHODS)}, got "
+                           f"'{name_with}'")
+    if bool(name_with) != bool(name_models):
+        raise bad_argument("name_with and name_models go together: the classifier and its "
+                           "models folder or file")
+    if name_with == "svm_fitness" and not class_models:
+        raise bad_argument("name_with svm_fitness needs class_models, the models folder it "
+                           "learnt from")
+    for path in (name_models, class_models):
+        if path and not os.path.exists(path):
+            raise bad_argument(f"{path} not found")
+
+
 def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None,
                 track=False, naming=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its

@@ -70,6 +70,9 @@ void split(const ObjectView& object, std::vector<std::size_t> points, double low
     if (rectangle.width > config.max_width) {
       if (const auto at = cutAlong(object, points, width_axis, lowest, config)) {
         cut.emplace(width_axis, *at);
+      } else if (const auto along = cutAlong(object, points, length_axis, lowest, config)) {
+        // Cars side by side seen from their fronts: the row is the longer side.
+        cut.emplace(length_axis, *along);
       }
     }
     if (!cut && rectangle.length > config.max_length) {

@@ -61,6 +61,30 @@ TEST(VehicleSplitTest, NoseToTailCarsAreCutBetweenThem) {
   EXPECT_EQ(splitVehicles(viewOf(points), VehicleSplitConfig()).size(), 2u);
 }
 
+TEST(VehicleSplitTest, CarsSideBySideSeenFromTheirFrontsAreCutAlongTheRow) {
+  // From the aisle a mast sees the front 2.4 m of two cars parked 0.5 m apart: a footprint 4.1 m
+  // along the row, its longer side, and 2.4 m deep (the parking lot's turned cuboids).
+  std::vector<Eigen::Vector3d> points;
+  for (const double y : {0.0, 2.3}) {
+    std::vector<Eigen::Vector3d> car;
+    addCar(car, 10.0, y);
+    for (const Eigen::Vector3d& p : car) {
+      if (p.x() <= 10.0 - 2.25 + 2.4) {
+        points.push_back(p);
+      }
+    }
+  }
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      low = std::min(low, p.y()), high = std::max(high, p.y());
+    }
+    EXPECT_NEAR(high - low, 1.8, 1e-6);  // one car's width each
+  }
+}
+
 TEST(VehicleSplitTest, OneCarOrATallerObjectIsLeftWhole) {
   std::vector<Eigen::Vector3d> car;
   addCar(car, 10.0, 0.0);

@@ -147,8 +147,11 @@ struct FreeSpaceConfig {
 /// two cars' bodies, before each piece is fitted.
 struct VehicleSplitConfig {
   bool enabled = true;
-  double max_width = 2.6;    ///< m: a footprint wider than a car (side by side) ...
-  double max_length = 5.6;   ///< m: ... or longer (nose to tail) is looked at
+  /// m: a footprint wider than a car with its mirrors (side by side) is looked at across its
+  /// width, then along its length (cars side by side seen from their fronts make the row the
+  /// longer side) ...
+  double max_width = 2.3;
+  double max_length = 5.6;   ///< m: ... and one longer (nose to tail) along its length
   double max_top = 2.2;      ///< m: taller objects (trucks, buses) are not cut
   double bin = 0.15;         ///< m, of the height profile
   double min_piece = 1.2;    ///< m: no cut leaves a piece narrower than a car seen end on

@@ -18,6 +18,8 @@ import sys
 import time
 import xml.etree.ElementTree as ElementTree
 
+from granular_tools.output import process_running
+
 REQUIRED_DIED = re.compile(r"REQUIRED process \[(?P<node>[^\]]+)\] has died")
 PROCESS_DIED = re.compile(r"process has died \[pid \d+, exit code (?P<code>-?\d+)")
 FINISHED_CLEANLY = "process has finished cleanly"
@@ -92,16 +94,6 @@ def named_folders(arguments):
     return folders
 
 
-def alive(pid):
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
 def remove_staging(arguments, since):
     """Remove the staging folders and files that a process of this run, now dead, left under
     the folders its arguments name (made since `since`, by a process no longer alive)."""
@@ -115,7 +107,7 @@ def remove_staging(arguments, since):
             for name in names:
                 match = STAGING.match(name)
                 path = os.path.join(folder, name)
-                if not match or alive(int(match.group("pid"))):
+                if not match or process_running(int(match.group("pid"))):
                     continue
                 try:
                     if os.lstat(path).st_mtime < since:

@@ -64,7 +64,8 @@ def temporary_sibling(path, kind):
     return os.path.join(os.path.dirname(path), f".{os.path.basename(path)}.{kind}-{os.getpid()}")
 
 
-def _running(pid):
+def process_running(pid):
+    """Whether process `pid` still runs (one of another user's counts as running)."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -89,7 +90,7 @@ def clear_dead_siblings(path):
         if not match:
             continue
         pid = int(match.group(2))
-        if pid == os.getpid() or _running(pid):
+        if pid == os.getpid() or process_running(pid):
             continue
         full = os.path.join(parent, entry)
         if match.group(1) == "previous":

@@ -156,6 +156,17 @@ def check_naming(name_with, name_models, class_models):
             raise bad_argument(f"{path} not found")
 
 
+def sensor_arguments(run):
+    """fit_cuboids' sensor options for `run` (its sensor, sensor_height, azimuth_step and
+    prior_classes; None leaves an option out)."""
+    arguments = []
+    for option, value in (("--sensor", run.sensor), ("--sensor-height", run.sensor_height),
+                          ("--azimuth-step", run.azimuth_step),
+                          ("--prior-classes", run.prior_classes)):
+        arguments += [option, str(value)] if value is not None else []
+    return arguments
+
+
 def fit_command(run, frames, out, boxes, method=None, models=None, classifier=None,
                 track=False, naming=None):
     """The fit_cuboids command for `run` (a CuboidsRun or a pipeline's PipelineRun: its
@@ -169,13 +180,10 @@ def fit_command(run, frames, out, boxes, method=None, models=None, classifier=No
                           ("--config", run.config_file("cuboids.yaml")),
                           ("--ground-config", run.config_file("ground.yaml")),
                           ("--segmentation-config", run.config_file("segmentation.yaml")),
-                          ("--sensor", run.sensor),
-                          ("--sensor-height", run.sensor_height),
-                          ("--azimuth-step", run.azimuth_step),
-                          ("--prior-classes", run.prior_classes),
                           ("--tracking-config",
                            run.config_file("tracking.yaml") if track else None)):
         command += [option, str(value)] if value is not None else []
+    command += sensor_arguments(run)
     name_with, name_models, class_models = naming or (None, None, None)
     for option, value in (("--name-with", name_with), ("--name-models", name_models),
                           ("--class-models", class_models),

@@ -24,8 +24,9 @@ from .. import progress
 from ..config_loading import ConfigError
 from ..evaluation.cuboid_matching import DEFAULT_CLASS_MAP, Filters, Settings, evaluate
 from ..output import OutputError, resolve, run_main, write_file
-from .stages import (SIMULATOR_SENSOR, StageError, add_sensor_options, bad_argument,
-                     existing_file, positive_number, sensor_option, without_rosrun)
+from .stages import (StageError, add_sensor_options, bad_argument,
+                     existing_file, positive_number, sensor_arguments, sensor_option,
+                     without_rosrun)
 
 TOOL = "train_vehicle_decision"
 
@@ -115,11 +116,7 @@ class Tuning:
             fitted = os.path.join(run, f"cuboids{index}")
             command = ["rosrun", "granular_ros", "fit_cuboids", "--frames", frames, "--out",
                        fitted, "--boxes", "segment", "--config", config_file]
-            for option, value in (("--sensor", self.args.sensor),
-                                  ("--sensor-height", self.args.sensor_height),
-                                  ("--azimuth-step", self.args.azimuth_step),
-                                  ("--prior-classes", self.args.prior_classes)):
-                command += [option, str(value)] if value not in (None, "") else []
+            command += sensor_arguments(self.args)
             fit = subprocess.run(without_rosrun(command), capture_output=True, text=True,
                                  check=False)
             if fit.returncode != 0:
@@ -186,6 +183,9 @@ def main(argv=None):
             existing_file(args.config, "config")
         positive_number(str(args.max_range), "--max-range")
         args.sensor = sensor_option(args.sensor, None)
+        args.sensor_height = positive_number(args.sensor_height, "--sensor-height")
+        args.azimuth_step = positive_number(args.azimuth_step, "--azimuth-step")
+        args.prior_classes = args.prior_classes or None
         candidates = SWEEPS * sum(len(values) for values in TUNED.values())
         reporter = None if args.quiet else progress.Reporter(TOOL, unit="fits at most")
         with tempfile.TemporaryDirectory(prefix=f"{TOOL}-") as scratch:

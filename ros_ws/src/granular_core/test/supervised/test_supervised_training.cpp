@@ -73,22 +73,31 @@ TEST_F(TwoClassesTest, TheSvmGridSearchOnASampleKeepsEveryClassAndTrainsOnAll) {
   EXPECT_EQ(summary.objects, 23u);
 }
 
-TEST_F(TwoClassesTest, KnnWithOneNeighbourGivesEachTrainingObjectItsOwnLabel) {
+TEST(KnnTrainingTest, TheNeighboursVoteAsManyAsKSays) {
+  // Six objects along one feature (the other five 0): A at 0, 2 and 12, B at 1, 10 and 11.
+  std::vector<std::vector<float>> features;
+  for (const float x : {0.0f, 1.0f, 2.0f, 10.0f, 11.0f, 12.0f}) {
+    features.push_back({x, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  }
+  const std::vector<std::string> labels = {"A", "B", "A", "B", "B", "A"};
   SupervisedConfig config;
   config.knn.k = 1;
-  std::vector<std::vector<float>> features;
-  for (const Cloud& cloud : train_) {
-    features.push_back(meanStdFeatures(cloud));
-  }
   TrainingSummary summary;
-  const SupervisedClassifier classifier = SupervisedClassifier::train(
-      SupervisedMethod::kKnn, config, features, train_labels_, &summary);
-  EXPECT_EQ(summary.objects, train_.size());
+  const SupervisedClassifier one =
+      SupervisedClassifier::train(SupervisedMethod::kKnn, config, features, labels, &summary);
+  EXPECT_EQ(summary.objects, 6u);
   for (std::size_t i = 0; i < features.size(); ++i) {
-    const SupervisedPrediction prediction = classifier.predictWithScore(features[i]);
-    EXPECT_EQ(prediction.label, train_labels_[i]) << i;
+    const SupervisedPrediction prediction = one.predictWithScore(features[i]);
+    EXPECT_EQ(prediction.label, labels[i]) << i;  // its own training object is nearest
     EXPECT_EQ(prediction.score, 1.0) << i;
   }
+  // Three neighbours of the B at 1 are the As at 0 and 2 and itself: A, two votes of three.
+  config.knn.k = 3;
+  const SupervisedClassifier three =
+      SupervisedClassifier::train(SupervisedMethod::kKnn, config, features, labels);
+  const SupervisedPrediction prediction = three.predictWithScore(features[1]);
+  EXPECT_EQ(prediction.label, "A");
+  EXPECT_DOUBLE_EQ(prediction.score, 2.0 / 3.0);
 }
 
 TEST_F(TwoClassesTest, TrainingRefusesOneLabelAndFeaturesOfTheWrongSize) {

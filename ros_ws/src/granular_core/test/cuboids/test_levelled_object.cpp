@@ -152,6 +152,22 @@ TEST(LevelledObjectTest, ARectangleGrowsAwayFromTheSensorAndStopsShortOfSeenEmpt
   EXPECT_DOUBLE_EQ(grown.max.y(), 1.8);  // 0.5 m seen of 1.8: not probed
 }
 
+TEST(LevelledObjectTest, RefutedGrowthCountsThePlacesBeyondTheSeenRectangle) {
+  AxisRectangle seen;  // heading 0: 1.8 m both ways, the sensor at its low corner's side
+  seen.min = Eigen::Vector2d(10.0, 0.0);
+  seen.max = Eigen::Vector2d(11.8, 1.8);
+  const Eigen::Vector2d sensor = Eigen::Vector2d::Zero();
+  const auto everywhere = [](const Eigen::Vector2d&) { return true; };
+  // Grown to 4.5 m along x: places every 0.25 m from 0.125 m, those more than a step beyond the
+  // seen ends counted: x 12.125 to 14.375 (10) by y 0.125 to 1.625 (7).
+  EXPECT_EQ(cuboids::refutedGrowth(seen, sensor, 0, 4.5, 1.8, everywhere, 0.25), 70u);
+  EXPECT_EQ(cuboids::refutedGrowth(seen, sensor, 1, 4.5, 1.8, everywhere, 0.25), 70u);
+  // Something seen beyond x = 13: six columns of the growth along x, none along y.
+  const auto beyond_13 = [](const Eigen::Vector2d& p) { return p.x() > 13.0; };
+  EXPECT_EQ(cuboids::refutedGrowth(seen, sensor, 0, 4.5, 1.8, beyond_13, 0.25), 42u);
+  EXPECT_EQ(cuboids::refutedGrowth(seen, sensor, 1, 4.5, 1.8, beyond_13, 0.25), 0u);
+}
+
 TEST(LevelledObjectTest, TheSensorBoxStandsOnTheGround) {
   const Eigen::Isometry3d levelling = road().levelling();
   const OrientedBox box =

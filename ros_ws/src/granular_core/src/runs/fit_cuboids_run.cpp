@@ -44,11 +44,12 @@ struct PendingFrame {
 };
 
 // `cuboid` as the track's: its id, velocity and class (where a frame voted), turned to the
-// track's smoothed yaw (turnToTrack).
-Detection trackCuboid(const Track& track, Detection cuboid) {
-  cuboid.orientation =
-      turnToTrack(track, OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size)) *
-      cuboid.orientation;
+// track's smoothed yaw where that turns it by at most `max_turn_deg` (turnToTrack).
+Detection trackCuboid(const Track& track, Detection cuboid, double max_turn_deg) {
+  cuboid.orientation = turnToTrack(track, OrientedBox(cuboid.centre, cuboid.orientation,
+                                                      cuboid.size),
+                                   max_turn_deg) *
+                       cuboid.orientation;
   cuboid.id = track.id;
   cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
   if (track.share > 0.0) {
@@ -60,9 +61,9 @@ Detection trackCuboid(const Track& track, Detection cuboid) {
 
 // Tracks `frame` (the last of `pending`): its cuboids of reported tracks go to its written
 // list, and a track born in it adds its tentative frames' cuboids to theirs (offline, those
-// frames are still pending: `pending` holds the last birth_hits frames).
-void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame>& pending,
-                const std::vector<Observation>& observations) {
+// frames are still pending: `pending` holds the last birth_hits + birth_misses frames).
+void trackFrame(Tracker& tracker, double max_turn_deg, const fs::path& cloud,
+                std::deque<PendingFrame>& pending, const std::vector<Observation>& observations) {
   PendingFrame& frame = pending.back();
   const double stamp =
       static_cast<double>(frame.header.secs) + 1e-9 * static_cast<double>(frame.header.nsecs);
@@ -75,13 +76,13 @@ void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame
   }
   for (const Track& track : tracks) {
     if (track.observation) {  // none while coasting
-      frame.written.push_back(trackCuboid(track, frame.fitted[*track.observation]));
+      frame.written.push_back(
+          trackCuboid(track, frame.fitted[*track.observation], max_turn_deg));
     }
-    const std::size_t before = track.earlier_observations.size();
-    for (std::size_t i = 0; i < before; ++i) {
-      PendingFrame& earlier = pending[pending.size() - 1 - before + i];
+    for (const EarlierObservation& before : track.earlier_observations) {
+      PendingFrame& earlier = pending[pending.size() - 1 - before.frames_before];
       earlier.written.push_back(
-          trackCuboid(track, earlier.fitted[track.earlier_observations[i]]));
+          trackCuboid(track, earlier.fitted[before.observation], max_turn_deg));
     }
   }
 }
@@ -198,7 +199,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   if (options.tracking) {
     tracker.emplace(*options.tracking);
     summary.tracked = true;
-    held_frames = options.tracking->birth_hits - 1;
+    held_frames = options.tracking->birth_hits - 1 + options.tracking->birth_misses;
   }
   const auto write = [&](PendingFrame& frame) {
     if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
@@ -349,7 +350,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     }
     pending.push_back(std::move(pending_frame));
     if (tracker) {
-      trackFrame(*tracker, frames / "pcd" / (stamp + ".pcd"), pending, observations);
+      trackFrame(*tracker, options.tracking->max_turn_deg, frames / "pcd" / (stamp + ".pcd"),
+                 pending, observations);
       summary.tracks = tracker->born();
     } else {
       pending.back().written = pending.back().fitted;

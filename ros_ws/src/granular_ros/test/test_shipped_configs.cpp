@@ -134,6 +134,18 @@ TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 
+TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeClouds) {
+  // online.launch loads it over tracking.yaml: the births only differ.
+  granular::TrackingConfig tracking;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
+  ASSERT_NO_THROW(
+      loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking_online.yaml", tracking));
+  EXPECT_NO_THROW(granular::validate(tracking));
+  EXPECT_EQ(tracking.birth_hits, 3u);
+  tracking.birth_hits = granular::TrackingConfig().birth_hits;
+  EXPECT_TRUE(tracking == granular::TrackingConfig());
+}
+
 using ShippedConfigKeysTest = TemporaryYamlTest;
 
 TEST_F(ShippedConfigKeysTest, BadValuesNameTheFileAndTheKey) {

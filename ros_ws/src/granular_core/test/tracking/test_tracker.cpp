@@ -157,8 +157,10 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
 
 TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
   // Object A is seen in frames 0-9, B in frames 4-5 only (never born), C in 3-14, and frame 7
-  // holds clutter far from everything; birth_hits 3, death_misses 3 (the default).
-  Tracker tracker(threeHits());
+  // holds clutter far from everything; birth_hits 3, death_misses 3.
+  TrackingConfig config = threeHits();
+  config.death_misses = 3;
+  Tracker tracker(config);
   std::vector<std::size_t> reported;
   for (int k = 0; k < 20; ++k) {
     std::vector<Observation> frame;

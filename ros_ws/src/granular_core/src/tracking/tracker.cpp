@@ -45,7 +45,7 @@ OrientedBox Tracker::predictedBox(const State& state) const {
 
 Track Tracker::reported(const State& state) const {
   Track track{state.id, predictedBox(state), Eigen::Vector2d::Zero(), config_.abstain_label,
-              0.0, state.hits, state.misses, state.observation, {}};
+              0.0, state.hits, state.misses, state.gap, state.observation, {}};
   track.velocity = state.x.tail<2>();
   const double speed = track.velocity.norm();
   if (speed >= config_.heading_min_speed) {
@@ -129,6 +129,7 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     State& state = states_[t];
     if (!assigned[t]) {
       ++state.misses;
+      state.gap = 0;
       state.tentative_misses += state.id == 0 ? 1 : 0;
       continue;
     }
@@ -152,6 +153,7 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
       state.tentative_observations.emplace_back(frames_, o);
     }
     ++state.hits;
+    state.gap = state.id != 0 ? state.misses : 0;
     state.misses = 0;
   }
 

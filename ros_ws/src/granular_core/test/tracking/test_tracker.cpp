@@ -99,6 +99,7 @@ TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
       EXPECT_NEAR(tracks[0].box.centre().x(), 5.0 + 1.2 * 6, 0.3);
     } else {
       EXPECT_EQ(tracks[0].observation, 0u);
+      EXPECT_EQ(tracks[0].gap, k == 7 ? 1u : 0u) << "frame " << k;  // the frame it coasted
     }
   }
   EXPECT_EQ(tracker.born(), 1u);

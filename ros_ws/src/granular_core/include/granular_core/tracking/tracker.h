@@ -46,6 +46,9 @@ struct Track {
   double share = 0.0;
   std::size_t hits = 0;    ///< frames with a detection, in all
   std::size_t misses = 0;  ///< frames in a row without one, up to the latest
+  /// In a frame with an observation: the frames in a row without one just before (it coasted
+  /// through them; an offline user may bridge them). 0 otherwise.
+  std::size_t gap = 0;
   /// This frame's observation (an index into update's input); none while the track coasts.
   std::optional<std::size_t> observation;
   /// In the frame the track is born only: its observations in the frames before, while it was
@@ -94,6 +97,7 @@ class Tracker {
     Eigen::Vector3d size = Eigen::Vector3d::Ones();
     std::size_t hits = 0;
     std::size_t misses = 0;  // in a row
+    std::size_t gap = 0;  // the misses in a row before this frame's observation
     std::size_t tentative_misses = 0;  // in all, while tentative
     std::optional<std::size_t> observation;
     // Until born: (frame number, observation index) of each hit.

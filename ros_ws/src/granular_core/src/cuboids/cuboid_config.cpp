@@ -47,6 +47,14 @@ void validate(const CuboidConfig& config) {
                   "lshape.fine_step_deg must not exceed lshape.coarse_step_deg");
   config::require(config.free_space.bin_deg == 0.0 || config.free_space.bin_deg >= 0.01,
                   "free_space.bin_deg must be 0 (not looked at) or at least 0.01 deg");
+  config::require(config.free_space.occupied_cell == 0.0 || config.free_space.occupied_cell >= 0.01,
+                  "free_space.occupied_cell must be 0 (not looked at) or at least 0.01 m");
+  config::require(config.free_space.occupied_cell == 0.0 ||
+                      config.free_space.occupied_range <= 2000.0 * config.free_space.occupied_cell,
+                  "free_space.occupied_range must be at most 2000 occupied_cell (a bit per cell "
+                  "of a square twice as wide)");
+  config::require(config.split.search_step_deg == 0.0 || config.split.search_step_deg >= 0.1,
+                  "split.search_step_deg must be 0 (the rectangle's sides only) or at least 0.1 deg");
   config::require(config.model.headings == 2 || config.model.headings == 4,
                   "model.headings must be 2 or 4");
   for (const std::string& name : config.geometric.classes) {

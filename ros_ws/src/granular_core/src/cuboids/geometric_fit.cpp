@@ -68,9 +68,9 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
           ? choosePrior(config_, levelled->top, capped, seen.maxCoeff())
           : nullptr;
   const int longer = seen.x() >= seen.y() ? 0 : 1;
-  const int length_axis =
-      prior != nullptr ? cuboids::lengthAxis(cuboids::bodyExtent(*levelled, rectangle),
-                                             prior->width, config_.geometric.width_tolerance,
+  const Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
+  int length_axis =
+      prior != nullptr ? cuboids::lengthAxis(body, prior->width, config_.geometric.width_tolerance,
                                              rectangle.coordinates(rectangle.centre() -
                                                                    levelled->sensor),
                                              [&] { return cuboids::acrossShortfall(*levelled); })
@@ -84,6 +84,23 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
         return object.free_space->seenEmpty(to_sensor *
                                             Eigen::Vector3d(place.x(), place.y(), body_height));
       };
+      const auto refutes = [&](const Eigen::Vector2d& place) {
+        const Eigen::Vector3d at = to_sensor * Eigen::Vector3d(place.x(), place.y(), body_height);
+        return object.free_space->seenEmpty(at) || object.free_space->seenOccupied(at);
+      };
+      // Seen no longer than a car is wide, either side may be its length: not the one whose
+      // body would stand where the scan saw nothing or another object.
+      if (config_.free_space.refuted_margin > 0 &&
+          body.maxCoeff() <= prior->width + config_.geometric.width_tolerance) {
+        const auto refuted = [&](int axis) {
+          return cuboids::refutedGrowth(rectangle, levelled->sensor, axis, prior->length,
+                                        prior->width, refutes, config_.free_space.step);
+        };
+        const std::size_t chosen = refuted(length_axis), other = refuted(1 - length_axis);
+        if (chosen >= other + config_.free_space.refuted_margin) {
+          length_axis = 1 - length_axis;
+        }
+      }
     }
     rectangle = cuboids::grownFromSeenCorner(rectangle, levelled->sensor, length_axis,
                                              prior->length, prior->width, seen_empty,

@@ -235,6 +235,25 @@ AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d
   return rectangle;
 }
 
+std::size_t refutedGrowth(const AxisRectangle& rectangle, const Eigen::Vector2d& sensor,
+                          int length_axis, double length, double width,
+                          const std::function<bool(const Eigen::Vector2d&)>& refutes,
+                          double step) {
+  const AxisRectangle grown =
+      grownFromSeenCorner(rectangle, sensor, length_axis, length, width, nullptr);
+  std::size_t refuted = 0;
+  for (double u = grown.min.x() + step / 2; u < grown.max.x(); u += step) {
+    for (double v = grown.min.y() + step / 2; v < grown.max.y(); v += step) {
+      const bool beyond = u < rectangle.min.x() - step || u > rectangle.max.x() + step ||
+                          v < rectangle.min.y() - step || v > rectangle.max.y() + step;
+      if (beyond && refutes(rectangle.point(Eigen::Vector2d(u, v)))) {
+        ++refuted;
+      }
+    }
+  }
+  return refuted;
+}
+
 OrientedBox sensorBox(const Eigen::Isometry3d& levelling, const Eigen::Vector2d& centre,
                       double yaw, const Eigen::Vector3d& size) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -1,7 +1,8 @@
-// ObjectSegmenter: candidates on a range-aware grid (segment()), cells linked into components
-// (joinNeighbours over a LinkCells view), the gates (gateSegment over a FrameCells view, its
-// verdict a Rejection) and the walls peeled off what they reject (peelWall). (Over 400 lines:
-// the four read one frame's cell tables, which stay private to this file.)
+// ObjectSegmenter: candidates on a range-aware grid (buildFrameGrid, segment_grid.h), cells
+// linked into components (joinNeighbours over a LinkCells view), the gates (gateSegment over a
+// FrameCells view, its verdict a Rejection) and the walls peeled off what they reject
+// (peelWall). (Over 400 lines: the links, the gates and the walls read one frame's cell tables
+// through views that stay private to this file.)
 #include "granular_core/segmentation/object_segmentation.h"
 
 #include <algorithm>
@@ -17,9 +18,14 @@
 #include <Eigen/Eigenvalues>
 
 #include "granular_core/geometry/footprint.h"
+#include "segment_grid.h"
 
 namespace granular {
 namespace {
+
+using segmentation_detail::CellBits;
+using segmentation_detail::FrameGrid;
+using segmentation_detail::PlaneGrid;
 
 // m: the min-area rectangle passes through the extreme points, which rounding would put
 // outside a box drawn on it.
@@ -27,107 +33,6 @@ constexpr double kEdgeAllowance = 0.005;
 
 // Cells that vote in a wall's Hough search (WallPeeling), at most.
 constexpr std::size_t kHoughCells = 400;
-
-// A square grid of `side` x `side` cells of edge `size` centred on the sensor; cell
-// row * side + col covers x in [-half + col * size, ...), y likewise with row.
-struct PlaneGrid {
-  double size = 0.0;
-  double half = 0.0;
-  int side = 0;
-
-  PlaneGrid(double cell_size, double half_extent)
-      : size(cell_size),
-        half(half_extent),
-        side(static_cast<int>(std::ceil(2.0 * half_extent / cell_size - 1e-9))) {}
-
-  std::size_t cells() const { return static_cast<std::size_t>(side) * side; }
-  // The cell of (x, y), or nullopt outside the grid.
-  std::optional<std::size_t> cellOf(double x, double y) const {
-    const double col = std::floor((x + half) / size);
-    const double row = std::floor((y + half) / size);
-    if (col < 0 || row < 0 || col >= side || row >= side) {
-      return std::nullopt;
-    }
-    return static_cast<std::size_t>(row) * side + static_cast<std::size_t>(col);
-  }
-  double centre(int index) const { return -half + (index + 0.5) * size; }
-};
-
-// A bit per cell of a PlaneGrid, rows padded to whole 64-bit words: which cells hold a slot.
-class CellBits {
- public:
-  // Over `words`, sized (and zeroed) for a grid of `side` x `side` when it is not already.
-  CellBits(std::vector<std::uint64_t>& words, int side)
-      : words_(words), side_(side), per_row_((static_cast<std::size_t>(side) + 63) / 64) {
-    if (words_.size() != per_row_ * static_cast<std::size_t>(side)) {
-      words_.assign(per_row_ * static_cast<std::size_t>(side), 0);
-    }
-  }
-  void set(std::uint32_t cell) { words_[wordOf(cell)] |= bitOf(cell); }
-  void clear(std::uint32_t cell) { words_[wordOf(cell)] &= ~bitOf(cell); }
-  // visit(col) for each set cell of `row` in columns [first, last], ascending.
-  template <typename Visit>
-  void forEachSet(int row, int first, int last, Visit&& visit) const {
-    if (first > last) {
-      return;
-    }
-    const std::uint64_t* row_words = words_.data() + static_cast<std::size_t>(row) * per_row_;
-    for (int word = first / 64; word <= last / 64; ++word) {
-      const int base = word * 64;
-      std::uint64_t bits = row_words[word];
-      if (first > base) {
-        bits &= ~std::uint64_t{0} << (first - base);
-      }
-      if (last - base < 63) {
-        bits &= ~std::uint64_t{0} >> (63 - (last - base));
-      }
-      while (bits != 0) {
-        visit(base + __builtin_ctzll(bits));
-        bits &= bits - 1;
-      }
-    }
-  }
-
- private:
-  std::size_t wordOf(std::uint32_t cell) const {
-    return (cell / static_cast<std::uint32_t>(side_)) * per_row_ +
-           (cell % static_cast<std::uint32_t>(side_)) / 64;
-  }
-  std::uint64_t bitOf(std::uint32_t cell) const {
-    return std::uint64_t{1} << ((cell % static_cast<std::uint32_t>(side_)) % 64);
-  }
-
-  std::vector<std::uint64_t>& words_;
-  int side_;
-  std::size_t per_row_;
-};
-
-// The places 0 .. keys.size() - 1 ordered by their key (all below key_count), equal keys in
-// place order: a least-significant-digit radix sort, 11 bits a pass.
-std::vector<std::uint32_t> stableOrderByKey(const std::vector<std::uint32_t>& keys,
-                                            std::size_t key_count) {
-  constexpr int kDigitBits = 11;
-  constexpr std::uint32_t kDigits = 1u << kDigitBits;
-  std::vector<std::uint32_t> order(keys.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::vector<std::uint32_t> sorted(keys.size());
-  std::vector<std::uint32_t> offset(kDigits);
-  for (int shift = 0; shift < 32 && (key_count - 1) >> shift != 0; shift += kDigitBits) {
-    std::fill(offset.begin(), offset.end(), 0u);
-    for (const std::uint32_t key : keys) {
-      ++offset[(key >> shift) & (kDigits - 1)];
-    }
-    std::uint32_t sum = 0;
-    for (std::uint32_t& count : offset) {
-      sum += std::exchange(count, sum);
-    }
-    for (const std::uint32_t place : order) {
-      sorted[offset[(keys[place] >> shift) & (kDigits - 1)]++] = place;
-    }
-    order.swap(sorted);
-  }
-  return order;
-}
 
 // Disjoint sets of occupied cells, union by size with path halving.
 class Components {
@@ -768,89 +673,25 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
   ObjectSegmentation result;
   result.ground = std::move(ground);
   const std::vector<float>& heights = result.ground.heights;
-  const std::vector<bool>& on_ground = result.ground.ground;
 
-  // Candidates: standing above the ground, below overhangs, off the own vehicle, on the grid.
+  // Candidates on the grid (buildFrameGrid), each occupied cell's place in slot_.
   const PlaneGrid grid(config.cell_size, config.max_range);
   CellBits held(held_, grid.side);
-  std::vector<std::size_t> candidates;
-  std::vector<std::uint32_t> candidate_cell;
-  std::vector<std::size_t> overhangs;  // higher than candidates, up to 8 m
-  const double min_range_sq = config.min_range * config.min_range;
-  const double max_range_sq = config.max_range * config.max_range;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const float height = heights[i];
-    if (on_ground[i] || !std::isfinite(height)) {
-      continue;
-    }
-    const PointXYZIT& point = cloud[i];
-    const double range_sq = double(point.x) * point.x + double(point.y) * point.y;
-    if (range_sq <= min_range_sq || range_sq >= max_range_sq) {
-      continue;
-    }
-    if (height > config.max_height) {
-      if (height < 8.0f) {
-        overhangs.push_back(i);
-      }
-      continue;
-    }
-    if (const auto cell = grid.cellOf(point.x, point.y)) {
-      candidates.push_back(i);
-      candidate_cell.push_back(static_cast<std::uint32_t>(*cell));
-    }
-  }
-  // The frame's occupied cells in row-major order (so that segments come in a fixed order),
-  // numbered k in slot_, and the candidates of cell k at by_cell[start[k] .. start[k + 1]), in
-  // cloud order. Sorting by cell first touches slot_ once a cell and in memory order.
-  std::vector<std::uint32_t> occupied;
-  std::vector<std::uint32_t> start;
-  std::vector<std::size_t> by_cell(candidates.size());
-  {
-    const std::vector<std::uint32_t> order = stableOrderByKey(candidate_cell, grid.cells());
-    for (std::size_t n = 0; n < order.size(); ++n) {
-      const std::uint32_t cell = candidate_cell[order[n]];
-      if (occupied.empty() || occupied.back() != cell) {
-        slot_[cell] = static_cast<std::int32_t>(occupied.size());
-        held.set(cell);
-        occupied.push_back(cell);
-        start.push_back(static_cast<std::uint32_t>(n));
-      }
-      by_cell[n] = candidates[order[n]];
-    }
-    start.push_back(static_cast<std::uint32_t>(order.size()));
-  }
-  // The highest return over each occupied cell: its candidates' and the overhangs above it.
-  // A cell whose candidates all lie below link_min_top is low.
-  std::vector<float> top_of_cell(occupied.size(), 0.0f);
-  std::vector<bool> low(occupied.size());
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    for (std::uint32_t c = start[k]; c < start[k + 1]; ++c) {
-      top_of_cell[k] = std::max(top_of_cell[k], heights[by_cell[c]]);
-    }
-    low[k] = top_of_cell[k] < config.link_min_top;
-  }
-  for (const std::size_t i : overhangs) {
-    if (const auto cell = grid.cellOf(cloud[i].x, cloud[i].y); cell && slot_[*cell] >= 0) {
-      float& top = top_of_cell[static_cast<std::size_t>(slot_[*cell])];
-      top = std::max(top, heights[i]);
-    }
-  }
+  const FrameGrid on_grid = buildFrameGrid(cloud, result.ground, config, grid, slot_, held);
+  const std::vector<std::uint32_t>& occupied = on_grid.occupied;
 
   const double step_rad = config.azimuth_step_deg * M_PI / 180.0;
   const double reach_per_m = config.link_range_steps * step_rad / config.cell_size;
   std::vector<int> link(occupied.size());
-  std::vector<Eigen::Vector2d> centre(occupied.size());
-  std::vector<double> range(occupied.size());
   for (std::size_t k = 0; k < occupied.size(); ++k) {
-    centre[k] = Eigen::Vector2d(grid.centre(static_cast<int>(occupied[k] % grid.side)),
-                                grid.centre(static_cast<int>(occupied[k] / grid.side)));
-    range[k] = centre[k].norm();
-    link[k] = std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * range[k])));
+    link[k] =
+        std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * on_grid.range[k])));
   }
   // The links and the walls read the frame's cells through this view (joinNeighbours,
   // peelWall).
-  const LinkCells links{config, grid, occupied, centre, range, link, low, reach_per_m,
-                        config.link_azimuth_steps * step_rad, slot_, held};
+  const LinkCells links{config, grid, occupied, on_grid.centre, on_grid.range, link,
+                        on_grid.low, reach_per_m, config.link_azimuth_steps * step_rad, slot_,
+                        held};
   std::vector<std::uint32_t> all_cells(occupied.size());
   std::iota(all_cells.begin(), all_cells.end(), 0u);
   Components components(occupied.size());
@@ -865,7 +706,8 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       groupsOf(components, occupied.size());
 
   // The gates read the frame's cells through this view (gateSegment).
-  const FrameCells frame{cloud, heights, grid.side, occupied, start, by_cell, top_of_cell};
+  const FrameCells frame{cloud, heights, grid.side, occupied, on_grid.start, on_grid.by_cell,
+                         on_grid.top_of_cell};
 
   const WallPeeling& walls = config.walls;
   // Each component, and what a wall peeled from it leaves, through the gates.

@@ -48,6 +48,12 @@ TEST(CuboidConfigTest, BadValuesNameTheField) {
   // Steps and bins that would take the fit hours or all memory.
   expectProblem([](CuboidConfig& c) { c.lshape.fine_step_deg = 1e-9; }, "lshape.fine_step_deg");
   expectProblem([](CuboidConfig& c) { c.free_space.bin_deg = 1e-9; }, "free_space.bin_deg");
+  expectProblem([](CuboidConfig& c) { c.free_space.occupied_cell = 1e-9; },
+                "free_space.occupied_cell");
+  expectProblem([](CuboidConfig& c) { c.free_space.occupied_cell = 0.01; },
+                "free_space.occupied_range");
+  expectProblem([](CuboidConfig& c) { c.split.search_step_deg = 1e-9; }, "split.search_step_deg");
+  expectProblem([](CuboidConfig& c) { c.free_space.step = 1e-9; }, "free_space.step");
   // Not "got null", JSON's word for it.
   expectProblem([](CuboidConfig& c) { c.lshape.cell = std::nan(""); }, "got nan");
   expectProblem([](CuboidConfig& c) { c.geometric.classes = {"Tram"}; }, "'Tram'");

@@ -54,6 +54,23 @@ TEST(FreeSpaceTest, ReturnsAboveTheBandNeitherBlockNorClear) {
   EXPECT_TRUE(with_road.seenEmpty(at(12.0, 45.0)));
 }
 
+TEST(FreeSpaceTest, AReturnInTheBandOccupiesItsCell) {
+  Cloud cloud;
+  add(cloud, 10.1, 0.0, 1.0);   // a car's side straight ahead
+  add(cloud, 12.1, 0.0, 1.2);   // another behind it: returned, so something stands there too
+  add(cloud, 8.0, 90.0, 0.1);   // the road
+  add(cloud, 8.0, -90.0, 3.0);  // a crown
+  const FreeSpace space(cloud, flatRoad(), FreeSpaceConfig());  // 0.2 m cells
+  EXPECT_TRUE(space.seenOccupied(at(10.1, 0.0)));
+  EXPECT_TRUE(space.seenOccupied(at(12.1, 0.0)));
+  EXPECT_FALSE(space.seenOccupied(at(10.5, 0.0)));
+  EXPECT_FALSE(space.seenOccupied(at(8.0, 90.0)));
+  EXPECT_FALSE(space.seenOccupied(at(8.0, -90.0)));
+  FreeSpaceConfig no_cells;
+  no_cells.occupied_cell = 0.0;
+  EXPECT_FALSE(FreeSpace(cloud, flatRoad(), no_cells).seenOccupied(at(10.1, 0.0)));
+}
+
 TEST(FreeSpaceTest, AZeroBinWidthKnowsNothing) {
   Cloud cloud;
   add(cloud, 30.0, 0.0, 0.0);

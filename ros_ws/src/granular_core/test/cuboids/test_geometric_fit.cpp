@@ -1,6 +1,7 @@
 // Geometric cuboid fitting: the L-shape rectangle, size priors grown from the seen corner, the
 // ground's tilt. (Over 400 lines: one case per way a vehicle is seen, all on the road, priors
 // and error measures at the top.)
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
@@ -15,6 +16,8 @@ namespace {
 
 using testing_support::moved;
 using testing_support::seenFaces;
+using testing_support::seenFacesAndRoof;
+using testing_support::unhiddenBy;
 using testing_support::StandingBox;
 
 constexpr double kSensorHeight = 1.73;
@@ -313,6 +316,46 @@ TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {
   EXPECT_LT(headingError(fitted->box, ground, truck.yaw), 0.5);
   EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
   EXPECT_LT(centreError(fitted->box, ground, truck), 0.05);
+}
+
+TEST(GeometricFitTest, ACarSeenEndOnAmongParkedCarsIsLongWhereNoNeighbourStands) {
+  // Three cars parked in a row across the line of sight from the aisle, 0.8 m apart, their
+  // lengths along y. Of the middle one the sensor sees its front, its roof and bonnet 1.8 m
+  // deep and the start of its side: the nearer neighbour hides the rest. The farther
+  // neighbour's front stands where the box would grow if its length ran along the line of sight.
+  const GroundPlane ground = road();
+  const CuboidConfig config = carPrior();
+  const Eigen::Vector3d sensor = sensorInRoadFrame(ground);
+  StandingBox car, nearer, farther;
+  car.yaw = nearer.yaw = farther.yaw = M_PI / 2;
+  car.centre = {-7.0, -6.2};
+  nearer.centre = {-4.4, -6.2};
+  farther.centre = {-9.6, -6.2};
+  const auto all = [](double, double, double) { return true; };
+  const auto front = [](double u, double, double) { return u >= 2.25 - 1.8 - 1e-9; };
+  const std::vector<Eigen::Vector3d> nearer_seen = seenFacesAndRoof(nearer, sensor, 0.05, all);
+  const std::vector<Eigen::Vector3d> seen =
+      unhiddenBy(seenFacesAndRoof(car, sensor, 0.05, front), nearer_seen);
+  std::vector<Eigen::Vector3d> scene = seen;
+  scene.insert(scene.end(), nearer_seen.begin(), nearer_seen.end());
+  for (const Eigen::Vector3d& p :
+       unhiddenBy(unhiddenBy(seenFacesAndRoof(farther, sensor, 0.05, all), seen), nearer_seen)) {
+    scene.push_back(p);
+  }
+  ObjectView object = view(seen, ground);
+  // The sides seen alone take it for a car seen end on, long along the line of sight ...
+  const std::optional<FittedCuboid> alone = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(alone);
+  EXPECT_GT(headingError(alone->box, ground, car.yaw), 80.0);
+  // ... where the scan saw the farther neighbour and the gap before it.
+  const FreeSpace around(scanWithRoad(scene, ground), ground, config.free_space);
+  object.free_space = &around;
+  expectTheCar(GeometricCuboidFitter(config).fit(object), ground, car);
+  CuboidConfig sides_only = config;
+  sides_only.free_space.refuted_margin = 0;
+  const std::optional<FittedCuboid> unchecked = GeometricCuboidFitter(sides_only).fit(object);
+  ASSERT_TRUE(unchecked);
+  EXPECT_GT(headingError(unchecked->box, ground, car.yaw), 80.0);
 }
 
 TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {

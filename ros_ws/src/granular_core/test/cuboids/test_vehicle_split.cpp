@@ -1,4 +1,10 @@
 // splitVehicles: touching parked cars are cut apart at the valleys of their height profile.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "granular_core/cuboids/vehicle_split.h"
@@ -9,16 +15,22 @@ namespace {
 constexpr double kSensorHeight = 2.5;
 
 // The upper faces and sides of a car (4.5 x 1.8 m, body to 1.0 m, roof to 1.5 m over its middle
-// 2.2 m) centred at (x, y), its length along x, sampled every 0.1 m: what a mast sees.
-void addCar(std::vector<Eigen::Vector3d>& points, double x, double y) {
-  for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.1) {
+// 2.2 m) centred at (x, y), its length at `yaw` (rad) from x, sampled every `step` m along it
+// and 0.1 m across: what a mast sees.
+void addCar(std::vector<Eigen::Vector3d>& points, double x, double y, double yaw = 0.0,
+            double step = 0.1) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const auto add = [&](double u, double v, double h) {
+    points.emplace_back(x + c * u - s * v, y + s * u + c * v, -kSensorHeight + h);
+  };
+  for (double u = -2.25; u <= 2.25 + 1e-9; u += step) {
     for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.1) {
       const bool cabin = std::abs(u) <= 1.1 && std::abs(v) <= 0.75;
-      points.emplace_back(x + u, y + v, -kSensorHeight + (cabin ? 1.5 : 1.0));
+      add(u, v, cabin ? 1.5 : 1.0);
     }
     for (double h = 0.3; h < 1.0; h += 0.1) {
-      points.emplace_back(x + u, y - 0.9, -kSensorHeight + h);
-      points.emplace_back(x + u, y + 0.9, -kSensorHeight + h);
+      add(u, -0.9, h);
+      add(u, 0.9, h);
     }
   }
 }
@@ -83,6 +95,57 @@ TEST(VehicleSplitTest, CarsSideBySideSeenFromTheirFrontsAreCutAlongTheRow) {
     }
     EXPECT_NEAR(high - low, 1.8, 1e-6);  // one car's width each
   }
+}
+
+TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
+  // A segment of the simulated parking lot: an SUV's and a sedan's fronts, their lengths along
+  // y, 0.7 m apart between x = -7.25 and -6.52. Its sparse returns make a footprint whose
+  // minimum-area rectangle is turned 25 degrees off both cars: across neither of its sides do
+  // their profiles part, across the gap's own direction they do.
+  std::ifstream file(std::string(GRANULAR_CORE_TEST_DATA) + "/parking_lot_two_fronts.xyz");
+  ASSERT_TRUE(file) << "test data missing";
+  std::vector<Eigen::Vector3d> points;
+  std::string line;
+  while (std::getline(file, line)) {
+    std::istringstream fields(line);
+    double x, y, height;
+    if (line[0] != '#' && fields >> x >> y >> height) {
+      points.emplace_back(x, y, height - kSensorHeight);
+    }
+  }
+  ASSERT_EQ(points.size(), 408u);
+  VehicleSplitConfig rectangle_only;
+  rectangle_only.search_step_deg = 0.0;
+  EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  // Each piece's returns above the road lie on one side of the gap.
+  int suv = 0, sedan = 0;
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      if (p.z() > -kSensorHeight + 0.2) {
+        low = std::min(low, p.x()), high = std::max(high, p.x());
+      }
+    }
+    suv += high < -7.0;
+    sedan += low > -6.8;
+  }
+  EXPECT_EQ(suv, 1);
+  EXPECT_EQ(sedan, 1);
+}
+
+TEST(VehicleSplitTest, TheSpacingBetweenASparseScansColumnsIsNoGap) {
+  // A car 2.1 m wide with its mirrors, its returns in columns 0.25 m apart along it: a bin of
+  // the profile empty between some two columns, and no car behind the other.
+  std::vector<Eigen::Vector3d> car;
+  addCar(car, 10.0, 0.0, 0.0, 0.25);
+  car.emplace_back(10.0, 1.05, -kSensorHeight + 1.0);
+  car.emplace_back(10.0, -1.05, -kSensorHeight + 1.0);
+  EXPECT_EQ(splitVehicles(viewOf(car), VehicleSplitConfig()).size(), 1u);
+  VehicleSplitConfig every_empty_bin;
+  every_empty_bin.min_gap = 0.0;
+  EXPECT_GT(splitVehicles(viewOf(car), every_empty_bin).size(), 1u);
 }
 
 TEST(VehicleSplitTest, OneCarOrATallerObjectIsLeftWhole) {

@@ -2,6 +2,7 @@
 // standing on a road plane, for the cuboid tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -59,6 +60,45 @@ std::vector<Eigen::Vector3d> seenFaces(const StandingBox& box, const Eigen::Vect
 inline std::vector<Eigen::Vector3d> seenFaces(const StandingBox& box,
                                               const Eigen::Vector3d& sensor, double step) {
   return seenFaces(box, sensor, step, [](double, double, double) { return true; });
+}
+
+// The box's faces that face `sensor` (seenFaces) and its roof, every `step` metres, where
+// `visible` (u, v, h as seenFaces') keeps them: what a sensor on a mast sees of a car.
+template <typename Keep>
+std::vector<Eigen::Vector3d> seenFacesAndRoof(const StandingBox& box, const Eigen::Vector3d& sensor,
+                                              double step, Keep visible) {
+  std::vector<Eigen::Vector3d> points = seenFaces(box, sensor, step, visible);
+  const Eigen::Rotation2Dd turn(box.yaw);
+  const double l = box.size.x() / 2, w = box.size.y() / 2;
+  for (double u = -l; u <= l + 1e-9; u += step) {
+    for (double v = -w; v <= w + 1e-9; v += step) {
+      if (visible(u, v, box.size.z())) {
+        const Eigen::Vector2d p = box.centre + turn * Eigen::Vector2d(u, v);
+        points.emplace_back(p.x(), p.y(), box.size.z());
+      }
+    }
+  }
+  return points;
+}
+
+// `points` less those hidden from a sensor at the origin behind `nearer`: within the bearings
+// `nearer` spans (none may straddle +-180 degrees) and farther than its nearest point.
+inline std::vector<Eigen::Vector3d> unhiddenBy(const std::vector<Eigen::Vector3d>& points,
+                                               const std::vector<Eigen::Vector3d>& nearer) {
+  double low = M_PI, high = -M_PI, nearest = 1e9;
+  for (const Eigen::Vector3d& p : nearer) {
+    const double bearing = std::atan2(p.y(), p.x());
+    low = std::min(low, bearing), high = std::max(high, bearing);
+    nearest = std::min(nearest, p.head<2>().norm());
+  }
+  std::vector<Eigen::Vector3d> kept;
+  for (const Eigen::Vector3d& p : points) {
+    const double bearing = std::atan2(p.y(), p.x());
+    if (bearing < low || bearing > high || p.head<2>().norm() <= nearest) {
+      kept.push_back(p);
+    }
+  }
+  return kept;
 }
 
 // `points` moved by `motion`.

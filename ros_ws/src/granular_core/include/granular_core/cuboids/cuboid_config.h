@@ -130,6 +130,15 @@ struct FreeSpaceConfig {
   /// m: ... this far behind the face turned to the sensor (the face's rectangle edge is its
   /// outermost returns; nearer the face, a place beside the object is taken for its end).
   double inset = 0.25;
+  /// m: the side of the square cells that hold a return within the band (another object
+  /// stands there); 0: not looked at.
+  double occupied_cell = 0.2;
+  double occupied_range = 80.0;  ///< m: the cells cover this far around the sensor
+  /// Places (a grid of `step`): an object seen no longer than its class is wide takes its
+  /// length along the other side than lengthAxis chose when its body grown along the chosen one
+  /// covers at least this many more places seen empty or holding another object's returns (a
+  /// car seen end on among parked cars); 0: the sides seen decide alone.
+  std::size_t refuted_margin = 1;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -137,8 +146,11 @@ struct FreeSpaceConfig {
     visit("bin_deg", self.bin_deg, interval(0.0, 45.0, "deg"));
     visit("body_min", self.body_min, nonNegative("m"));
     visit("body_max", self.body_max, positive("m"));
-    visit("step", self.step, positive("m"));
+    visit("step", self.step, atLeast(0.01, "m"));
     visit("inset", self.inset, nonNegative("m"));
+    visit("occupied_cell", self.occupied_cell, nonNegative("m"));
+    visit("occupied_range", self.occupied_range, interval(1.0, 200.0, "m"));
+    visit("refuted_margin", self.refuted_margin, nonNegative("places"));
   }
 };
 
@@ -150,14 +162,23 @@ struct VehicleSplitConfig {
   /// m: a footprint wider than a car with its mirrors (side by side) is looked at across its
   /// width, then along its length (cars side by side seen from their fronts make the row the
   /// longer side) ...
-  double max_width = 2.3;
+  double max_width = 2.0;
   double max_length = 5.6;   ///< m: ... and one longer (nose to tail) along its length
   double max_top = 2.2;      ///< m: taller objects (trucks, buses) are not cut
   double bin = 0.15;         ///< m, of the height profile
   double min_piece = 1.2;    ///< m: no cut leaves a piece narrower than a car seen end on
   double min_drop = 0.35;    ///< m: a valley at least this far below the tops on both sides
+  /// m: empty bins count as a valley (the gap between two bodies) only over this length at
+  /// least; shorter runs are the spacing between the scan's returns.
+  double min_gap = 0.3;
   double road_height = 0.2;  ///< m: lower returns are the road
   int max_cuts = 4;          ///< cuts per segment, the deepest first
+  /// deg: where neither side of the footprint's rectangle shows a valley, directions this far
+  /// apart are searched (two cars seen at a slant); 0: the rectangle's sides only.
+  double search_step_deg = 5.0;
+  /// m: ... for a footprint wider than this (single cars seen at a slant show valleys across
+  /// their diagonals) or longer than max_length.
+  double search_min_width = 2.6;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -169,8 +190,11 @@ struct VehicleSplitConfig {
     visit("bin", self.bin, atLeast(0.01, "m"));
     visit("min_piece", self.min_piece, positive("m"));
     visit("min_drop", self.min_drop, nonNegative("m"));
+    visit("min_gap", self.min_gap, nonNegative("m"));
     visit("road_height", self.road_height, nonNegative("m"));
     visit("max_cuts", self.max_cuts, interval(0, 16, "cuts"));
+    visit("search_step_deg", self.search_step_deg, interval(0.0, 90.0, "deg"));
+    visit("search_min_width", self.search_min_width, positive("m"));
   }
 };
 

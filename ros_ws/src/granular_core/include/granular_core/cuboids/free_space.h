@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,6 +29,10 @@ class FreeSpace {
   /// says nothing (no return beyond it, or one nearer).
   bool seenEmpty(const Eigen::Vector3d& point) const;
 
+  /// Whether a return within the body band lies in the occupied_cell square around `point`
+  /// (sensor frame; its x, y) within occupied_range of the sensor: something stands there.
+  bool seenOccupied(const Eigen::Vector3d& point) const;
+
  private:
   // The azimuth bin of x, y (the sensor frame's).
   std::size_t binOf(double x, double y) const;
@@ -34,6 +40,12 @@ class FreeSpace {
   double bin_;  // rad
   std::vector<float> blocked_;  // m, nearest return in the band
   std::vector<float> reach_;    // m, farthest a ray was seen to pass within the band
+  // The cell of x, y in occupied_, or none beyond the grid.
+  std::optional<std::size_t> cellOf(double x, double y) const;
+
+  double cell_;       // m, of the occupied cells
+  std::size_t side_;  // cells along each side of the square grid centred on the sensor
+  std::vector<std::uint64_t> occupied_;  // one bit per cell: it holds a return in the band
 };
 
 }  // namespace granular

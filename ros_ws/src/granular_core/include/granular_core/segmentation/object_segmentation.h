@@ -23,8 +23,10 @@ struct SegmentGates {
   /// under and around it; docs/segmentation.md).
   std::size_t min_points = 7;
   double max_length = 14.0;      ///< m: no rigid road vehicle is longer
-  double max_width = 3.5;        ///< m: vehicles are at most about 3 m wide
-  double max_area = 40.0;        ///< m^2: a bus is about 31 m^2
+  /// m and m^2: vehicles are at most about 3 m wide and a bus is about 31 m^2, but parked cars
+  /// touching side by side make one segment that the cuboid stage cuts apart (VehicleSplit).
+  double max_width = 6.0;
+  double max_area = 60.0;
   /// m: longer than wall_length and thinner than wall_width is a wall, fence or hedge line.
   double wall_length = 7.0;
   double wall_width = 0.6;

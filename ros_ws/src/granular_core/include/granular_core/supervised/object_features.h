@@ -161,7 +161,8 @@ struct PairFitness {
 std::vector<float> registrationFitnessFeatures(const std::vector<std::vector<PairFitness>>& pairs,
                                                std::size_t points, bool inlier_shares);
 
-/// pcl::ESFEstimation's 640 values (zeros for fewer than 3 points).
+/// pcl::ESFEstimation's 640 values, summing to 1, from the finite points (zeros for fewer
+/// than 3). PCL seeds its sampling with the time in seconds: two calls may differ.
 std::vector<float> esfFeatures(const Cloud& object);
 
 }  // namespace granular

@@ -1,5 +1,7 @@
 """run_fleet: the pipeline over many bags as a map, a reduce and a map again, on Dask
-distributed (an embedded LocalCluster, or a cluster the user started: docs/fleet.md).
+distributed (an embedded LocalCluster, or a cluster the user started: docs/fleet.md). (Over 400
+lines: the ledger, the progress line and the Fleet's callbacks share one run's state, and main
+checks the config they read; the folders, tasks and report are plan.py, tasks.py, report.py.)
 
 1. per bag: bag to frames, frames to objects at every N_thresh (box-free: cuboids first);
 2. per class, over the train drives (--train, or the bags themselves): the class's objects

@@ -27,6 +27,7 @@ const char* verdictName(VehicleVerdict verdict) {
     case VehicleVerdict::kTooLow: return "too_low";
     case VehicleVerdict::kTooTall: return "too_tall";
     case VehicleVerdict::kTooSmall: return "too_small";
+    case VehicleVerdict::kTooThin: return "too_thin";
     case VehicleVerdict::kSeeThrough: return "see_through";
     case VehicleVerdict::kGaps: return "gaps";
     case VehicleVerdict::kNotASurface: return "not_a_surface";
@@ -86,6 +87,7 @@ std::size_t VehicleEvidence::binOf(double x, double y) const {
 VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
                                      const OrientedBox& cuboid) const {
   VehicleCues cues;
+  cues.cuboid_width = std::min(cuboid.size().x(), cuboid.size().y());
   // The object's points: height above the road, range, azimuth bin (unwrapped about the
   // object's mean direction, so that an object behind the sensor spans no seam), and its
   // coordinates along the cuboid's axes.
@@ -278,6 +280,9 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
   }
   if (cues.seen_length < config_.min_extent) {
     return VehicleVerdict::kTooSmall;
+  }
+  if (cues.cuboid_width < config_.min_width) {
+    return VehicleVerdict::kTooThin;
   }
   if (cues.pass_share > config_.max_pass_share) {
     return VehicleVerdict::kSeeThrough;

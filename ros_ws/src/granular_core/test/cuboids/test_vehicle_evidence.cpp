@@ -70,6 +70,20 @@ TEST(VehicleEvidenceTest, AnOpaqueCarIsAVehicle) {
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
+TEST(VehicleEvidenceTest, ACuboidNarrowerThanACarIsTooThin) {
+  // A clipped hedge 4.5 m long, 1.2 m deep and car-high, dense enough to return every ray: a
+  // body by every other cue. Its cuboid is as narrow as the fit found it, having seen the road
+  // behind it.
+  const Block hedge{{9.0, 1.0, -kSensorHeight}, {13.5, 2.2, -kSensorHeight + 1.5}, 0.0};
+  VehicleVerdict verdict;
+  EXPECT_NEAR(measured(scan({hedge}), hedge, verdict).cuboid_width, 1.2, 1e-9);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooThin) << verdictName(verdict);
+  VehicleEvidenceConfig any_width;
+  any_width.min_width = 0.0;
+  measured(scan({hedge}), hedge, verdict, any_width);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
 TEST(VehicleEvidenceTest, ACanopyOfTheSameSizeThatRaysPassThroughIsBackground) {
   // Foliage: on average a return every 1.5 m inside, so rays often cross its 1.8-4.5 m.
   const Block canopy = carSized(1.0 / 1.5);
@@ -80,11 +94,15 @@ TEST(VehicleEvidenceTest, ACanopyOfTheSameSizeThatRaysPassThroughIsBackground) {
 }
 
 TEST(VehicleEvidenceTest, AWallOrAHedgeLineIsNoCar) {
-  // As high as a car, but level along its 7 m.
+  // As high as a car, but level along its 7 m (and 0.3 m thin: too_thin besides, not asked here).
   const Block wall{{9.0, 1.0, -kSensorHeight}, {16.0, 1.3, -kSensorHeight + 1.5}, 0.0};
+  VehicleEvidenceConfig any_width;
+  any_width.min_width = 0.0;
   VehicleVerdict verdict;
-  measured(scan({wall}), wall, verdict);
+  measured(scan({wall}), wall, verdict, any_width);
   EXPECT_EQ(verdict, VehicleVerdict::kTooLong) << verdictName(verdict);
+  measured(scan({wall}), wall, verdict);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooThin) << verdictName(verdict);
   // A car's length, but a level top: refused where the bonnet and boot must show (the default
   // asks only that the ends are no higher than the middle), while the car passes.
   VehicleEvidenceConfig level_tops;
@@ -116,14 +134,17 @@ TEST(VehicleEvidenceTest, ALongHedgeBehindAParkedCarIsNoTruck) {
   const Block hedge{{22.0, -3.5, -kSensorHeight}, {22.8, 3.5, -kSensorHeight + 2.4}, 0.0};
   const Block parked{{17.0, -2.2, -kSensorHeight}, {18.8, 2.3, -kSensorHeight + 1.5}, 0.0};
   const Cloud cloud = scan({hedge, parked});
+  // Its block, 0.8 m deep, stands for the cuboid: too_thin besides, not asked here.
+  VehicleEvidenceConfig any_width;
+  any_width.min_width = 0.0;
   VehicleVerdict verdict;
-  VehicleCues cues = measured(cloud, hedge, verdict);
+  VehicleCues cues = measured(cloud, hedge, verdict, any_width);
   EXPECT_GT(cues.top, 2.2);             // taller than a car ...
   EXPECT_GE(cues.clear_share, 0.5);     // ... seemingly clear of the road ...
   EXPECT_GT(cues.seen_length, 6.5);     // ... and longer than one
   EXPECT_EQ(verdict, VehicleVerdict::kTooLong) << verdictName(verdict);
   // Long vehicles only as tall as a car's roof rack passed before min_long_top.
-  VehicleEvidenceConfig car_tall;
+  VehicleEvidenceConfig car_tall = any_width;
   car_tall.min_long_top = car_tall.max_car_top;
   measured(cloud, hedge, verdict, car_tall);
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);

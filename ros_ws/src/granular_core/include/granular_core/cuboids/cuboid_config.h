@@ -178,7 +178,7 @@ struct VehicleSplitConfig {
   double search_step_deg = 5.0;
   /// m: ... for a footprint wider than this (single cars seen at a slant show valleys across
   /// their diagonals) or longer than max_length.
-  double search_min_width = 2.6;
+  double search_min_width = 2.3;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -234,6 +234,9 @@ struct VehicleEvidenceConfig {
   double points_reference_step_deg = 0.2;  ///< deg
   double min_top = 0.8;          ///< m: lower objects are kerbs, verges, low walls
   double min_extent = 1.0;       ///< m: the longer side seen; shorter are posts and people
+  /// m: a cuboid narrower (its shorter side, after growing only into space not seen empty) is
+  /// a hedge, shrub or fence whose far side the scan saw; cars are 1.6 m wide and more.
+  double min_width = 1.5;
   /// m: taller than this is no car; it is kept only as a truck or bus, whose body stands clear
   /// of the road (below).
   double max_car_top = 2.2;
@@ -286,6 +289,7 @@ struct VehicleEvidenceConfig {
     visit("points_reference_step_deg", self.points_reference_step_deg, positive("deg"));
     visit("min_top", self.min_top, nonNegative("m"));
     visit("min_extent", self.min_extent, nonNegative("m"));
+    visit("min_width", self.min_width, nonNegative("m"));
     visit("max_car_top", self.max_car_top, positive("m"));
     visit("max_top", self.max_top, positive("m"));
     visit("max_car_length", self.max_car_length, positive("m"));

@@ -31,6 +31,9 @@ struct VehicleCues {
   /// m: how much lower the top is at the lower end of the longer side seen (its outer
   /// quarters) than in its middle: a car's bonnet or boot against its roof.
   double profile_drop = 0.0;
+  /// m, the cuboid's shorter side: the fit grows a box only into space not seen empty, so a
+  /// box narrower than a car saw the scan's rays pass behind it.
+  double cuboid_width = 0.0;
 };
 
 /// Why a segment is no vehicle; kVehicle when it is one.
@@ -40,6 +43,7 @@ enum class VehicleVerdict : std::uint8_t {
   kTooLow,          ///< min_top
   kTooTall,         ///< max_top
   kTooSmall,        ///< min_extent
+  kTooThin,         ///< min_width: its cuboid is narrower than a car (hedges, shrubs)
   kSeeThrough,      ///< max_pass_share: rays pass through it (foliage)
   kGaps,            ///< min_fill: gaps between its returns (fences, rails, branches)
   kNotASurface,     ///< max_face_distance: returns spread through a volume (bushes)

@@ -186,10 +186,11 @@ class SegmentCloud {
         continue;
       }
       const granular::OrientedBox& box = cuboids.kept[*track.observation].cuboid.box;
+      const Eigen::Quaterniond turn =
+          granular::turnToTrack(track, box, tracking_config_->max_turn_deg);
       lgsvl_msgs::Detection3D detection = granular_ros::toMessage(
-          granular::OrientedBox(box.centre(),
-                                granular::turnToTrack(track, box) * box.orientation(), box.size()),
-          "unknown", track.id, 1.0f);
+          granular::OrientedBox(box.centre(), turn * box.orientation(), box.size()), "unknown",
+          track.id, 1.0f);
       detection.velocity.linear.x = track.velocity.x();
       detection.velocity.linear.y = track.velocity.y();
       output.detections.push_back(detection);

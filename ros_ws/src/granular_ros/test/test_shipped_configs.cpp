@@ -126,10 +126,23 @@ TEST(ShippedConfigTest, CuboidsYamlStatesTheCuboidDefaults) {
 TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   granular::TrackingConfig tracking;
   tracking.gate.min_overlap = 0.0;  // values the file must set back
-  tracking.filter.yaw_gain = 1.0;
+  tracking.filter.yaw_window = 1;
+  tracking.birth_misses = 0;
   tracking.vote = granular::ClassVote::kVotes;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
   EXPECT_NO_THROW(granular::validate(tracking));
+  EXPECT_TRUE(tracking == granular::TrackingConfig());
+}
+
+TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeClouds) {
+  // online.launch loads it over tracking.yaml: the births only differ.
+  granular::TrackingConfig tracking;
+  ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
+  ASSERT_NO_THROW(
+      loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking_online.yaml", tracking));
+  EXPECT_NO_THROW(granular::validate(tracking));
+  EXPECT_EQ(tracking.birth_hits, 3u);
+  tracking.birth_hits = granular::TrackingConfig().birth_hits;
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 

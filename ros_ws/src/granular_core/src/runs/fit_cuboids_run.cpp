@@ -41,14 +41,46 @@ struct PendingFrame {
   DetectionsHeader header;
   std::vector<Detection> fitted;   // every cuboid fitted in the frame
   std::vector<Detection> written;  // those to write: with tracking, the tracks' only
+  std::size_t bridging = 0;        // of those, written where their track had no cuboid
 };
 
+double seconds(const DetectionsHeader& header) {
+  return static_cast<double>(header.secs) + 1e-9 * static_cast<double>(header.nsecs);
+}
+
+// Writes into the frames between `before` (the track's last cuboid, `gap` + 1 frames back in
+// `pending`) and `after` (this frame's) a cuboid moved evenly between the two by stamp, turned
+// as `after`: the track coasted through them. Nothing where `before` is no longer pending.
+void bridgeGap(std::deque<PendingFrame>& pending, std::size_t gap, const Detection& after) {
+  if (gap + 2 > pending.size()) {
+    return;
+  }
+  const std::size_t last = pending.size() - 1;
+  const PendingFrame& start = pending[last - gap - 1];
+  const auto found = std::find_if(start.written.begin(), start.written.end(),
+                                  [&](const Detection& cuboid) { return cuboid.id == after.id; });
+  if (found == start.written.end()) {
+    return;
+  }
+  const Detection before = *found;
+  const double t0 = seconds(start.header), t1 = seconds(pending[last].header);
+  for (std::size_t k = last - gap; k < last; ++k) {
+    const double share = (seconds(pending[k].header) - t0) / (t1 - t0);
+    Detection cuboid = after;
+    cuboid.centre = before.centre + share * (after.centre - before.centre);
+    cuboid.size = before.size + share * (after.size - before.size);
+    pending[k].written.push_back(cuboid);
+    ++pending[k].bridging;
+  }
+}
+
 // `cuboid` as the track's: its id, velocity and class (where a frame voted), turned to the
-// track's smoothed yaw (turnToTrack).
-Detection trackCuboid(const Track& track, Detection cuboid) {
-  cuboid.orientation =
-      turnToTrack(track, OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size)) *
-      cuboid.orientation;
+// track's smoothed yaw where that turns it by at most `max_turn_deg` (turnToTrack).
+Detection trackCuboid(const Track& track, Detection cuboid, double max_turn_deg) {
+  cuboid.orientation = turnToTrack(track, OrientedBox(cuboid.centre, cuboid.orientation,
+                                                      cuboid.size),
+                                   max_turn_deg) *
+                       cuboid.orientation;
   cuboid.id = track.id;
   cuboid.velocity = Eigen::Vector3d(track.velocity.x(), track.velocity.y(), 0.0);
   if (track.share > 0.0) {
@@ -59,13 +91,13 @@ Detection trackCuboid(const Track& track, Detection cuboid) {
 }
 
 // Tracks `frame` (the last of `pending`): its cuboids of reported tracks go to its written
-// list, and a track born in it adds its tentative frames' cuboids to theirs (offline, those
-// frames are still pending: `pending` holds the last birth_hits frames).
-void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame>& pending,
-                const std::vector<Observation>& observations) {
+// list, a track born in it adds its tentative frames' cuboids to theirs, and one that coasted
+// through at most bridge_frames frames bridges them (offline, those frames are still pending:
+// `pending` holds enough of the last frames for both).
+void trackFrame(Tracker& tracker, const TrackingConfig& config, const fs::path& cloud,
+                std::deque<PendingFrame>& pending, const std::vector<Observation>& observations) {
   PendingFrame& frame = pending.back();
-  const double stamp =
-      static_cast<double>(frame.header.secs) + 1e-9 * static_cast<double>(frame.header.nsecs);
+  const double stamp = seconds(frame.header);
   std::vector<Track> tracks;
   try {
     tracks = tracker.update(stamp, observations);
@@ -75,13 +107,16 @@ void trackFrame(Tracker& tracker, const fs::path& cloud, std::deque<PendingFrame
   }
   for (const Track& track : tracks) {
     if (track.observation) {  // none while coasting
-      frame.written.push_back(trackCuboid(track, frame.fitted[*track.observation]));
+      frame.written.push_back(
+          trackCuboid(track, frame.fitted[*track.observation], config.max_turn_deg));
+      if (track.gap > 0 && track.gap <= config.bridge_frames) {
+        bridgeGap(pending, track.gap, frame.written.back());
+      }
     }
-    const std::size_t before = track.earlier_observations.size();
-    for (std::size_t i = 0; i < before; ++i) {
-      PendingFrame& earlier = pending[pending.size() - 1 - before + i];
+    for (const EarlierObservation& before : track.earlier_observations) {
+      PendingFrame& earlier = pending[pending.size() - 1 - before.frames_before];
       earlier.written.push_back(
-          trackCuboid(track, earlier.fitted[track.earlier_observations[i]]));
+          trackCuboid(track, earlier.fitted[before.observation], config.max_turn_deg));
     }
   }
 }
@@ -140,7 +175,8 @@ void FitCuboidsSummary::report(std::ostream& out, std::ostream& log) const {
   out << line;
   if (tracked) {
     out << "  tracks born: " << tracks << "; cuboids of tracks never born, not written: "
-        << tentative << '\n';
+        << tentative << "; cuboids bridging frames a track coasted through: " << bridging
+        << '\n';
   }
   if (!namer.empty()) {
     out << "  named by " << namer << "; too few points to name (the fitter's label kept): "
@@ -198,7 +234,10 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   if (options.tracking) {
     tracker.emplace(*options.tracking);
     summary.tracked = true;
-    held_frames = options.tracking->birth_hits - 1;
+    // A track born may write back birth_hits - 1 + birth_misses frames, and one that coasted
+    // bridge_frames frames bridges them from its cuboid before those.
+    held_frames = std::max(options.tracking->birth_hits - 1 + options.tracking->birth_misses,
+                           options.tracking->bridge_frames + 1);
   }
   const auto write = [&](PendingFrame& frame) {
     if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
@@ -209,7 +248,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       ++summary.labels[cuboid.label];
     }
     summary.fitted += frame.written.size();
-    summary.tentative += frame.fitted.size() - frame.written.size();
+    summary.tentative += frame.fitted.size() - (frame.written.size() - frame.bridging);
+    summary.bridging += frame.bridging;
     writeFile(output.staging() / (frame.stamp + ".json"),
               detectionsJson(frame.written, frame.header), "JSON");
     ++summary.frames;
@@ -349,7 +389,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     }
     pending.push_back(std::move(pending_frame));
     if (tracker) {
-      trackFrame(*tracker, frames / "pcd" / (stamp + ".pcd"), pending, observations);
+      trackFrame(*tracker, *options.tracking, frames / "pcd" / (stamp + ".pcd"), pending,
+                 observations);
       summary.tracks = tracker->born();
     } else {
       pending.back().written = pending.back().fitted;

@@ -28,8 +28,12 @@ OrientedBox boxOnGround(const Eigen::Vector2d& centre, double z, double yaw,
 
 }  // namespace
 
-Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed) {
+Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed,
+                               double max_turn_deg) {
   const double turn = std::remainder(track.box.yaw() - observed.yaw(), M_PI);
+  if (std::abs(turn) > max_turn_deg * M_PI / 180.0) {
+    return Eigen::Quaterniond::Identity();
+  }
   return Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()));
 }
 
@@ -41,7 +45,7 @@ OrientedBox Tracker::predictedBox(const State& state) const {
 
 Track Tracker::reported(const State& state) const {
   Track track{state.id, predictedBox(state), Eigen::Vector2d::Zero(), config_.abstain_label,
-              0.0, state.hits, state.misses, state.observation, {}};
+              0.0, state.hits, state.misses, state.gap, state.observation, {}};
   track.velocity = state.x.tail<2>();
   const double speed = track.velocity.norm();
   if (speed >= config_.heading_min_speed) {
@@ -125,7 +129,8 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     State& state = states_[t];
     if (!assigned[t]) {
       ++state.misses;
-      state.streak = 0;
+      state.gap = 0;
+      state.tentative_misses += state.id == 0 ? 1 : 0;
       continue;
     }
     const std::size_t o = *assigned[t];
@@ -139,23 +144,25 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.x += gain * innovation;
     const Eigen::Matrix<double, 2, 4> observed = Eigen::Matrix<double, 2, 4>::Identity();
     state.covariance = (Eigen::Matrix4d::Identity() - gain * observed) * state.covariance;
-    state.yaw += config_.filter.yaw_gain * axisDifference(observation.box.yaw() - state.yaw);
+    takeYaw(state, observation.box.yaw());
     state.size += config_.filter.size_gain * (observation.box.size() - state.size);
     state.z += config_.filter.size_gain * (observation.box.centre().z() - state.z);
     vote(state, observation);
     state.observation = o;
     if (state.id == 0) {
-      state.tentative_observations.push_back(o);
+      state.tentative_observations.emplace_back(frames_, o);
     }
     ++state.hits;
-    ++state.streak;
+    state.gap = state.id != 0 ? state.misses : 0;
     state.misses = 0;
   }
 
-  // Death: a tentative track missed once, a reported one missed death_misses times in a row.
+  // Death: a tentative track missed more than birth_misses times in all, a reported one
+  // missed death_misses times in a row.
   std::vector<State> alive;
   for (State& state : states_) {
-    const bool dead = state.id == 0 ? state.misses > 0 : state.misses >= config_.death_misses;
+    const bool dead = state.id == 0 ? state.tentative_misses > config_.birth_misses
+                                    : state.misses >= config_.death_misses;
     if (!dead) {
       alive.push_back(std::move(state));
     }
@@ -173,19 +180,20 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.x << box.centre().x(), box.centre().y(), 0.0, 0.0;
     state.covariance.diagonal() << r, r, v0, v0;
     state.yaw = box.yaw();
+    state.yaws = {box.yaw()};
     state.z = box.centre().z();
     state.size = box.size();
     vote(state, observations[o]);
     state.observation = o;
-    state.tentative_observations = {o};
-    state.hits = state.streak = 1;
+    state.tentative_observations = {{frames_, o}};
+    state.hits = 1;
     states_.push_back(std::move(state));
   }
 
   // Birth, in the order the tracks were started.
   std::vector<Track> tracks;
   for (State& state : states_) {
-    const bool born = state.id == 0 && state.streak >= config_.birth_hits;
+    const bool born = state.id == 0 && state.observation && state.hits >= config_.birth_hits;
     if (born) {
       state.id = next_id_++;
     }
@@ -194,13 +202,33 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     }
     if (born) {
       state.tentative_observations.pop_back();  // this frame's: `observation`
-      tracks.back().earlier_observations = std::move(state.tentative_observations);
+      for (const auto& [frame, observation] : state.tentative_observations) {
+        tracks.back().earlier_observations.push_back({frames_ - frame, observation});
+      }
       state.tentative_observations.clear();
     }
   }
   std::sort(tracks.begin(), tracks.end(),
             [](const Track& a, const Track& b) { return a.id < b.id; });
   return tracks;
+}
+
+void Tracker::takeYaw(State& state, double yaw) const {
+  state.yaws.push_back(yaw);
+  while (state.yaws.size() > config_.filter.yaw_window) {
+    state.yaws.pop_front();
+  }
+  // Each yaw as its difference modulo pi to the latest, so that a flipped front counts as
+  // the same axis; the median of those differences, of the two middle ones for an even count.
+  std::vector<double> differences;
+  for (const double earlier : state.yaws) {
+    differences.push_back(axisDifference(earlier - yaw));
+  }
+  std::sort(differences.begin(), differences.end());
+  const std::size_t n = differences.size();
+  const double median =
+      n % 2 == 1 ? differences[n / 2] : 0.5 * (differences[n / 2 - 1] + differences[n / 2]);
+  state.yaw = yaw + median;
 }
 
 void Tracker::vote(State& state, const Observation& observation) const {

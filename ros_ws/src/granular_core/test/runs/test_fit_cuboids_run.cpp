@@ -282,6 +282,48 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
   EXPECT_EQ(crowded[0].velocity, Eigen::Vector3d::Zero());
 }
 
+TEST_F(FitCuboidsFolderTest, AFrameATrackCoastedThroughIsBridged) {
+  // Seven frames 0.1 s apart of the car driving along its heading at 10 m/s, its points gone
+  // in frame 4: with bridge_frames 1 frame 4 is written with the track's cuboid halfway
+  // between frames 3 and 5 (the car's place then, 4 m on), with 0 it holds none.
+  const fs::path drive = root_ / "drive";
+  fs::create_directories(drive / "pcd");
+  const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
+  std::vector<std::string> stamps;
+  for (int k = 0; k < 7; ++k) {
+    StandingBox car = car_;
+    car.centre += 1.0 * k * heading;
+    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
+    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"), k == 4 ? scene({}) : scene({car}));
+  }
+  const auto run = [&](std::size_t bridge_frames, const std::string& out) {
+    FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
+    tracked.tracking = TrackingConfig();
+    tracked.tracking->birth_hits = 3;
+    tracked.tracking->bridge_frames = bridge_frames;
+    const FitCuboidsSummary summary = fitCuboidsFolder(drive, root_ / out, carPrior(), tracked);
+    return std::make_pair(summary, readDetectionsJson(root_ / out / (stamps[4] + ".json")));
+  };
+  const auto [bridged, frame4] = run(1, "bridged");
+  EXPECT_EQ(bridged.bridging, 1u);
+  EXPECT_EQ(bridged.fitted, 7u);
+  ASSERT_EQ(frame4.size(), 1u);
+  EXPECT_EQ(frame4[0].id, 1);
+  const std::vector<Detection> frame3 =
+      readDetectionsJson(root_ / "bridged" / (stamps[3] + ".json"));
+  const std::vector<Detection> frame5 =
+      readDetectionsJson(root_ / "bridged" / (stamps[5] + ".json"));
+  ASSERT_EQ(frame3.size(), 1u);
+  ASSERT_EQ(frame5.size(), 1u);
+  // Halfway to the precision the JSON keeps.
+  EXPECT_LT((frame4[0].centre - 0.5 * (frame3[0].centre + frame5[0].centre)).norm(), 1e-4);
+  EXPECT_LT((frame4[0].centre.head<2>() - (car_.centre + 4.0 * heading)).norm(), 0.1);
+  const auto [unbridged, empty4] = run(0, "unbridged");
+  EXPECT_EQ(unbridged.bridging, 0u);
+  EXPECT_EQ(unbridged.fitted, 6u);
+  EXPECT_TRUE(empty4.empty());
+}
+
 TEST_F(FitCuboidsFolderTest, TrackingRefusesFramesWhoseStampsDoNotIncrease) {
   // The second frame's detections file gives it the first frame's stamp.
   write(frames_ / "detections_3d" / (bare_stamp_ + ".json"), frameJson(""));

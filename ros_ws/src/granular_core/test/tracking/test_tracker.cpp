@@ -1,10 +1,12 @@
 // The tracker on synthetic frames with known answers: ids kept through a crossing and a missed
 // frame, births and deaths counted, the class decided over the frames, the velocity and the
 // heading estimated, and the gates holding.
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -97,6 +99,7 @@ TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
       EXPECT_NEAR(tracks[0].box.centre().x(), 5.0 + 1.2 * 6, 0.3);
     } else {
       EXPECT_EQ(tracks[0].observation, 0u);
+      EXPECT_EQ(tracks[0].gap, k == 7 ? 1u : 0u) << "frame " << k;  // the frame it coasted
     }
   }
   EXPECT_EQ(tracker.born(), 1u);
@@ -155,8 +158,10 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
 
 TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {
   // Object A is seen in frames 0-9, B in frames 4-5 only (never born), C in 3-14, and frame 7
-  // holds clutter far from everything; birth_hits 3, death_misses 3 (the default).
-  Tracker tracker(threeHits());
+  // holds clutter far from everything; birth_hits 3, death_misses 3.
+  TrackingConfig config = threeHits();
+  config.death_misses = 3;
+  Tracker tracker(config);
   std::vector<std::size_t> reported;
   for (int k = 0; k < 20; ++k) {
     std::vector<Observation> frame;
@@ -177,7 +182,7 @@ TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
   // A from frame 0, B from frame 1 listed first: each is born in its third frame, naming
   // where it was in the two before; later frames name none.
   Tracker tracker(threeHits());
-  std::vector<std::vector<std::size_t>> earlier_a, earlier_b;
+  std::vector<std::vector<EarlierObservation>> earlier_a, earlier_b;
   for (int k = 0; k < 5; ++k) {
     std::vector<Observation> frame;
     if (k >= 1) frame.push_back(car(-10.0, 5.0));
@@ -187,9 +192,41 @@ TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
           .push_back(track.earlier_observations);
     }
   }
-  using Indices = std::vector<std::size_t>;
-  EXPECT_EQ(earlier_a, (std::vector<Indices>{{0, 1}, {}, {}}));  // born in frame 2
-  EXPECT_EQ(earlier_b, (std::vector<Indices>{{0, 0}, {}}));      // born in frame 3
+  using Earlier = std::vector<EarlierObservation>;
+  // (frames before the birth, index in that frame)
+  EXPECT_EQ(earlier_a, (std::vector<Earlier>{{{2, 0}, {1, 1}}, {}, {}}));  // born in frame 2
+  EXPECT_EQ(earlier_b, (std::vector<Earlier>{{{2, 0}, {1, 0}}, {}}));      // born in frame 3
+}
+
+TEST(TrackerTest, ATentativeTrackMayMissBirthMissesFramesBeforeItsBirth) {
+  // A car seen in frames 0, 1 and 3 (its segment lost in frame 2): with birth_misses 1 it is
+  // born in frame 3, naming its cuboids of frames 0 and 1; with 0 its track restarts in frame
+  // 3 and is born in frame 5. One seen every other frame is never born with 1.
+  const auto run = [](std::size_t birth_misses, const std::vector<int>& seen) {
+    TrackingConfig config = threeHits();
+    config.birth_misses = birth_misses;
+    Tracker tracker(config);
+    std::vector<std::uint32_t> ids;
+    std::vector<EarlierObservation> earlier;
+    for (int k = 0; k < 7; ++k) {
+      std::vector<Observation> frame;
+      if (std::find(seen.begin(), seen.end(), k) != seen.end()) {
+        frame.push_back(car(10.0 + 0.2 * k, 4.0));
+      }
+      const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
+      ids.push_back(tracks.empty() ? 0 : tracks[0].id);
+      if (!tracks.empty() && !tracks[0].earlier_observations.empty()) {
+        earlier = tracks[0].earlier_observations;
+      }
+    }
+    return std::make_pair(ids, earlier);
+  };
+  const std::vector<int> lost_once = {0, 1, 3, 4, 5, 6};
+  const auto [ids, earlier] = run(1, lost_once);
+  EXPECT_EQ(ids, (std::vector<std::uint32_t>{0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(earlier, (std::vector<EarlierObservation>{{3, 0}, {2, 0}}));
+  EXPECT_EQ(run(0, lost_once).first, (std::vector<std::uint32_t>{0, 0, 0, 0, 0, 1, 1}));
+  EXPECT_EQ(run(1, {0, 2, 4, 6}).first, (std::vector<std::uint32_t>(7, 0)));
 }
 
 TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {
@@ -219,6 +256,41 @@ TEST(TrackerTest, YawIsSmoothedModuloHalfATurn) {
   const double yaw = tracks[0].box.yaw();
   EXPECT_NEAR(yaw - M_PI * std::round(yaw / M_PI), 0.05, 1e-9);
   EXPECT_NEAR(tracks[0].box.size().x(), 4.5, 1e-9);
+}
+
+TEST(TrackerTest, TheYawIsTheMedianOfTheLatestCuboidsYaws) {
+  // A parked car whose first cuboid was fitted 60 degrees off, then right (0), one cuboid 40
+  // degrees off in frame 6 and one flipped end to end in frame 8: born in frame 2 with the
+  // yaw of the two right ones, it keeps 0 throughout (a running average would have been
+  // 60 x (1 - gain)^2 off at birth).
+  Tracker tracker(threeHits());
+  const double degree = M_PI / 180.0;
+  for (int k = 0; k < 10; ++k) {
+    const double yaw = k == 0 ? 60 * degree : k == 6 ? 40 * degree : k == 8 ? M_PI : 0.0;
+    const std::vector<Track> tracks = tracker.update(k * kPeriod, {car(12.0, -3.0, yaw)});
+    if (k < 2) {
+      continue;
+    }
+    ASSERT_EQ(tracks.size(), 1u) << "frame " << k;
+    const double track_yaw = tracks[0].box.yaw();
+    EXPECT_NEAR(track_yaw - M_PI * std::round(track_yaw / M_PI), 0.0, 1e-12) << "frame " << k;
+  }
+}
+
+TEST(TrackerTest, ACuboidIsTurnedToItsTracksYawByAtMostTheMaxTurn) {
+  // The track's yaw is 0: a cuboid 15 degrees off is turned back by 15 degrees, one 30
+  // degrees off (more than max_turn_deg 20 from it) is left as fitted, and one flipped end to
+  // end and 15 degrees off is turned by 15 degrees, its front kept.
+  const Track track{1, car(10.0, 0.0).box};
+  const double degree = M_PI / 180.0;
+  const auto turn = [&](double yaw) {
+    const Eigen::AngleAxisd turned(turnToTrack(track, car(10.0, 0.0, yaw).box, 20.0));
+    return turned.angle() * turned.axis().z() / degree;
+  };
+  EXPECT_NEAR(turn(15 * degree), -15.0, 1e-9);
+  EXPECT_NEAR(turn(-15 * degree), 15.0, 1e-9);
+  EXPECT_NEAR(turn(30 * degree), 0.0, 1e-9);
+  EXPECT_NEAR(turn(M_PI + 15 * degree), -15.0, 1e-9);
 }
 
 TEST(TrackerTest, ANeighbourInTheNextLaneDoesNotTakeOverATrack) {

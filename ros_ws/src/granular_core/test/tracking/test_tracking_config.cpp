@@ -24,8 +24,8 @@ TEST(TrackingConfigTest, TheDefaultsAreValidAndBadValuesNameTheirField) {
   config.gate.max_distance = 0.0;
   EXPECT_NE(problem(config).find("gate.max_distance"), std::string::npos);
   config = TrackingConfig();
-  config.filter.yaw_gain = 0.0;  // the yaw would never follow the detections
-  EXPECT_NE(problem(config).find("filter.yaw_gain"), std::string::npos);
+  config.filter.yaw_window = 0;  // the yaw would follow no detection
+  EXPECT_NE(problem(config).find("filter.yaw_window"), std::string::npos);
   config = TrackingConfig();
   config.death_misses = 0;
   EXPECT_NE(problem(config).find("death_misses"), std::string::npos);

@@ -88,6 +88,7 @@ struct FitCuboidsSummary {
   bool tracked = false;         ///< whether the cuboids went through the tracker
   std::size_t tracks = 0;       ///< tracks born
   std::size_t tentative = 0;    ///< cuboids not written: their track was never born
+  std::size_t bridging = 0;     ///< cuboids written where a track coasted (bridge_gaps)
   /// Segments the zero-shot vehicle decision (CuboidConfig::evidence, segments without a
   /// classifier) gave no cuboid, by verdict name.
   std::map<std::string, std::size_t> not_vehicles;

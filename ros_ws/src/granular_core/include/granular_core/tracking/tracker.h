@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -22,11 +23,21 @@ struct Observation {
   double score = 1.0;
 };
 
+/// A tentative track's observation in a frame before its birth.
+struct EarlierObservation {
+  std::size_t frames_before = 0;  ///< 1: the frame before the one it is born in
+  std::size_t observation = 0;    ///< an index into that frame's input
+  bool operator==(const EarlierObservation& other) const {
+    return frames_before == other.frames_before && observation == other.observation;
+  }
+};
+
 /// A reported track, as of the latest frame.
 struct Track {
   std::uint32_t id = 0;  ///< from 1, in the order tracks were born; never reused
-  /// The filtered box: x-y centre from the filter, yaw (along the velocity above
-  /// heading_min_speed), size and centre height smoothed; turned about the sensor's z only.
+  /// The filtered box: x-y centre from the filter, yaw the median of the latest detections'
+  /// (along the velocity above heading_min_speed), size and centre height smoothed; turned
+  /// about the sensor's z only.
   OrientedBox box;
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< m/s, x-y in the sensor frame
   /// The class its frames decided so far (TrackingConfig::vote; the abstain label until a
@@ -35,28 +46,32 @@ struct Track {
   double share = 0.0;
   std::size_t hits = 0;    ///< frames with a detection, in all
   std::size_t misses = 0;  ///< frames in a row without one, up to the latest
+  /// In a frame with an observation: the frames in a row without one just before (it coasted
+  /// through them; an offline user may bridge them). 0 otherwise.
+  std::size_t gap = 0;
   /// This frame's observation (an index into update's input); none while the track coasts.
   std::optional<std::size_t> observation;
   /// In the frame the track is born only: its observations in the frames before, while it was
-  /// tentative (one in each of the birth_hits - 1 frames), oldest first, as indices into those
-  /// frames' inputs. An offline user may report the track there too; empty otherwise.
-  std::vector<std::size_t> earlier_observations;
+  /// tentative (birth_hits - 1 of them, within the birth_hits - 1 + birth_misses frames
+  /// before), oldest first. An offline user may report the track there too; empty otherwise.
+  std::vector<EarlierObservation> earlier_observations;
 };
 
-/// The turn about the sensor's z, by at most 90 degrees (the box's own front kept), that brings
-/// `observed` (the box of a track's observation) to the track's smoothed yaw. fit_cuboids
-/// writes and segment_cloud publishes a tracked cuboid so turned, its centre and size the
-/// observation's: the smoothed yaw misses the paper's 10 degrees less often than the frame's
-/// own (simulated train drive: MOTA 0.743 -> 0.760, docs/tracking.md), and the fitted centre
-/// less often than the filter's, which lags the cuboid's jumps.
-Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed);
+/// The turn about the sensor's z (the box's own front kept) that brings `observed` (the box of
+/// a track's observation) to the track's smoothed yaw, or none where that turn is more than
+/// `max_turn_deg` (TrackingConfig::max_turn_deg). fit_cuboids writes and segment_cloud
+/// publishes a tracked cuboid so turned, its centre and size the observation's: the smoothed
+/// yaw misses the paper's 10 degrees less often than the frame's own (docs/tracking.md), and
+/// the fitted centre less often than the filter's, which lags the cuboid's jumps.
+Eigen::Quaterniond turnToTrack(const Track& track, const OrientedBox& observed,
+                               double max_turn_deg);
 
 /// Multi-object tracking of cuboids on the ground plane, frame by frame (docs/tracking.md): a
 /// constant-velocity Kalman filter per track (x, y, vx, vy), the least-cost assignment of
 /// detections to tracks on the x-y distance between the detection's centre and the track's
 /// predicted one, gated on that distance and on the footprints' overlap; a track is born after
-/// `birth_hits` frames with a detection in a row and dies after `death_misses` frames in a row
-/// without one; its class is decided over its frames. The sensor's own motion is not taken
+/// `birth_hits` frames with a detection (missing at most `birth_misses` in between) and dies
+/// after `death_misses` frames in a row without one; its class is decided over its frames. The sensor's own motion is not taken
 /// out: positions are in the sensor frame of each frame.
 class Tracker {
  public:
@@ -77,13 +92,16 @@ class Tracker {
     Eigen::Vector4d x = Eigen::Vector4d::Zero();  // x, y, vx, vy
     Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
     double yaw = 0.0;  // modulo pi until the track moves
+    std::deque<double> yaws;  // the latest detections' yaws, yaw_window at most
     double z = 0.0;
     Eigen::Vector3d size = Eigen::Vector3d::Ones();
     std::size_t hits = 0;
-    std::size_t streak = 0;  // frames with a detection in a row
-    std::size_t misses = 0;
+    std::size_t misses = 0;  // in a row
+    std::size_t gap = 0;  // the misses in a row before this frame's observation
+    std::size_t tentative_misses = 0;  // in all, while tentative
     std::optional<std::size_t> observation;
-    std::vector<std::size_t> tentative_observations;  // one per frame until born
+    // Until born: (frame number, observation index) of each hit.
+    std::vector<std::pair<std::size_t, std::size_t>> tentative_observations;
     // Per label, the votes or scores so far and the frame of its latest vote (ties).
     std::map<std::string, double> weights;
     std::map<std::string, std::size_t> last_vote;
@@ -91,6 +109,8 @@ class Tracker {
   // The track's predicted box at the stamp being taken (the filter's x-y, the rest smoothed).
   OrientedBox predictedBox(const State& state) const;
   Track reported(const State& state) const;
+  // Takes a detection's yaw into the track's: the median of the latest yaw_window.
+  void takeYaw(State& state, double yaw) const;
   // Adds the observation's label to the track's class decision (the abstain label does not
   // vote).
   void vote(State& state, const Observation& observation) const;

@@ -92,12 +92,14 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
       // body would stand where the scan saw nothing or another object.
       if (config_.free_space.refuted_margin > 0 &&
           body.maxCoeff() <= prior->width + config_.geometric.width_tolerance) {
-        const auto refuted = [&](int axis) {
+        const auto refuted = [&](int axis, std::size_t enough) {
           return cuboids::refutedGrowth(rectangle, levelled->sensor, axis, prior->length,
-                                        prior->width, refutes, config_.free_space.step);
+                                        prior->width, refutes, config_.free_space.step, enough);
         };
-        const std::size_t chosen = refuted(length_axis), other = refuted(1 - length_axis);
-        if (chosen >= other + config_.free_space.refuted_margin) {
+        // The chosen side's count matters only up to the other's plus the margin.
+        const std::size_t other = refuted(1 - length_axis, std::numeric_limits<std::size_t>::max());
+        const std::size_t enough = other + config_.free_space.refuted_margin;
+        if (refuted(length_axis, enough) >= enough) {
           length_axis = 1 - length_axis;
         }
       }

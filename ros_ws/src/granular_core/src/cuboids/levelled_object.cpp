@@ -238,12 +238,12 @@ AxisRectangle grownFromSeenCorner(AxisRectangle rectangle, const Eigen::Vector2d
 std::size_t refutedGrowth(const AxisRectangle& rectangle, const Eigen::Vector2d& sensor,
                           int length_axis, double length, double width,
                           const std::function<bool(const Eigen::Vector2d&)>& refutes,
-                          double step) {
+                          double step, std::size_t enough) {
   const AxisRectangle grown =
       grownFromSeenCorner(rectangle, sensor, length_axis, length, width, nullptr);
   std::size_t refuted = 0;
-  for (double u = grown.min.x() + step / 2; u < grown.max.x(); u += step) {
-    for (double v = grown.min.y() + step / 2; v < grown.max.y(); v += step) {
+  for (double u = grown.min.x() + step / 2; u < grown.max.x() && refuted < enough; u += step) {
+    for (double v = grown.min.y() + step / 2; v < grown.max.y() && refuted < enough; v += step) {
       const bool beyond = u < rectangle.min.x() - step || u > rectangle.max.x() + step ||
                           v < rectangle.min.y() - step || v > rectangle.max.y() + step;
       if (beyond && refutes(rectangle.point(Eigen::Vector2d(u, v)))) {

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -82,13 +83,14 @@ int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,
 using SeenEmpty = std::function<bool(const Eigen::Vector2d&)>;
 
 /// How many places the box `grownFromSeenCorner` would give (without `seen_empty`) holds
-/// beyond `rectangle` that `refutes`: places on a grid of `step` from `step` beyond the seen
-/// ends, up to the grown ends. A vehicle's hidden body can be neither seen empty nor hold
-/// another object's returns.
+/// beyond `rectangle` that `refutes`, counted up to `enough` (the count stops there): places on
+/// a grid of `step` from `step` beyond the seen ends, up to the grown ends. A vehicle's hidden
+/// body can be neither seen empty nor hold another object's returns.
 std::size_t refutedGrowth(const AxisRectangle& rectangle, const Eigen::Vector2d& sensor,
                           int length_axis, double length, double width,
                           const std::function<bool(const Eigen::Vector2d&)>& refutes,
-                          double step);
+                          double step,
+                          std::size_t enough = std::numeric_limits<std::size_t>::max());
 
 /// `rectangle` with its extent along axis `length_axis` (0: u, 1: v) grown to at least `length`
 /// and along the other to at least `width`, each away from the sensor: the end nearer `sensor`

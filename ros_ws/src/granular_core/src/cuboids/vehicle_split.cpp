@@ -24,38 +24,34 @@ struct Cut {
 };
 
 // Where to cut `points` along `axis` (a unit vector on the ground), or none; none either where
-// the points span at most `min_extent` along it.
+// the points span at most `min_extent` along it. `heights`: each of the object's points' height
+// above its road.
 std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::size_t>& points,
-                            const Eigen::Vector2d& axis, double lowest,
+                            const std::vector<double>& heights, const Eigen::Vector2d& axis,
                             const VehicleSplitConfig& config, double min_extent = 0.0) {
+  std::vector<double> along(points.size());
   double from = 1e9, to = -1e9;
-  for (const std::size_t i : points) {
-    const double along = object.points[i].head<2>().dot(axis);
-    from = std::min(from, along), to = std::max(to, along);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    along[k] = object.points[points[k]].head<2>().dot(axis);
+    from = std::min(from, along[k]), to = std::max(to, along[k]);
   }
   if (to - from <= min_extent) {
     return std::nullopt;
   }
   const auto bins = static_cast<std::size_t>((to - from) / config.bin) + 1;
   std::vector<double> top(bins, 0.0);
-  for (const std::size_t i : points) {
-    const double height = heightAbove(object, object.points[i], lowest);
-    if (height < config.road_height) {
-      continue;
+  std::vector<bool> seen(bins, false);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const auto bin = std::min(bins - 1, static_cast<std::size_t>((along[k] - from) / config.bin));
+    seen[bin] = true;
+    const double height = heights[points[k]];
+    if (height >= config.road_height) {
+      top[bin] = std::max(top[bin], height);
     }
-    const auto bin = std::min(bins - 1, static_cast<std::size_t>(
-                                            (object.points[i].head<2>().dot(axis) - from) /
-                                            config.bin));
-    top[bin] = std::max(top[bin], height);
   }
   // A run of empty bins shorter than min_gap is the spacing of the scan's returns, not a gap
   // between two bodies: it takes the lower of the tops beside it.
   const auto shortest_gap = static_cast<std::size_t>(std::ceil(config.min_gap / config.bin - 1e-9));
-  std::vector<bool> seen(bins, false);
-  for (const std::size_t i : points) {
-    seen[std::min(bins - 1, static_cast<std::size_t>(
-                               (object.points[i].head<2>().dot(axis) - from) / config.bin))] = true;
-  }
   for (std::size_t bin = 0; bin < bins;) {
     if (seen[bin]) {
       ++bin;
@@ -71,16 +67,20 @@ std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::siz
     }
     bin = end;
   }
+  // The highest top before and after each bin.
+  std::vector<double> before(bins, 0.0), after(bins, 0.0);
+  for (std::size_t bin = 1; bin < bins; ++bin) {
+    before[bin] = std::max(before[bin - 1], top[bin - 1]);
+    after[bins - 1 - bin] = std::max(after[bins - bin], top[bins - bin]);
+  }
   const auto edge = static_cast<std::size_t>(config.min_piece / config.bin);
   std::optional<std::size_t> best;
   double best_drop = 0.0;
-  for (std::size_t bin = edge; bin + edge < bins; ++bin) {
-    const double before = *std::max_element(top.begin(), top.begin() + static_cast<long>(bin));
-    const double after = *std::max_element(top.begin() + static_cast<long>(bin) + 1, top.end());
-    if (top[bin] <= std::min(before, after) - config.min_drop &&
-        (!best || top[bin] < top[*best])) {
+  for (std::size_t bin = std::max<std::size_t>(edge, 1); bin + edge < bins; ++bin) {
+    const double lower = std::min(before[bin], after[bin]);
+    if (top[bin] <= lower - config.min_drop && (!best || top[bin] < top[*best])) {
       best = bin;
-      best_drop = std::min(before, after) - top[bin];
+      best_drop = lower - top[bin];
     }
   }
   if (!best) {
@@ -89,13 +89,14 @@ std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::siz
   return Cut{axis, from + (static_cast<double>(*best) + 0.5) * config.bin, best_drop};
 }
 
-void split(const ObjectView& object, std::vector<std::size_t> points, double lowest,
-           const VehicleSplitConfig& config, int depth, std::vector<ObjectView>& pieces) {
+void split(const ObjectView& object, std::vector<std::size_t> points,
+           const std::vector<double>& heights, const VehicleSplitConfig& config, int depth,
+           std::vector<ObjectView>& pieces) {
   std::vector<Eigen::Vector2d> footprint;
   double top = 0.0;
   for (const std::size_t i : points) {
     footprint.push_back(object.points[i].head<2>());
-    top = std::max(top, heightAbove(object, object.points[i], lowest));
+    top = std::max(top, heights[i]);
   }
   const Rectangle rectangle = minimumAreaRectangle(footprint);
   const Eigen::Vector2d length_axis(std::cos(rectangle.yaw), std::sin(rectangle.yaw));
@@ -104,14 +105,14 @@ void split(const ObjectView& object, std::vector<std::size_t> points, double low
   if (depth < config.max_cuts && top <= config.max_top) {
     // Across the wider excess first: cars side by side, then nose to tail.
     if (rectangle.width > config.max_width) {
-      cut = cutAlong(object, points, width_axis, lowest, config);
+      cut = cutAlong(object, points, heights, width_axis, config);
       if (!cut) {
         // Cars side by side seen from their fronts: the row is the longer side.
-        cut = cutAlong(object, points, length_axis, lowest, config);
+        cut = cutAlong(object, points, heights, length_axis, config);
       }
     }
     if (!cut && rectangle.length > config.max_length) {
-      cut = cutAlong(object, points, length_axis, lowest, config);
+      cut = cutAlong(object, points, heights, length_axis, config);
     }
     // The footprint of two cars seen at a slant can make a minimum-area rectangle whose sides
     // follow neither car: then the deepest valley across any direction along which the points
@@ -120,7 +121,7 @@ void split(const ObjectView& object, std::vector<std::size_t> points, double low
         (rectangle.width > config.search_min_width || rectangle.length > config.max_length)) {
       for (double deg = 0.0; deg < 180.0; deg += config.search_step_deg) {
         const double angle = rectangle.yaw + deg * M_PI / 180.0;
-        const auto found = cutAlong(object, points, {std::cos(angle), std::sin(angle)}, lowest,
+        const auto found = cutAlong(object, points, heights, {std::cos(angle), std::sin(angle)},
                                     config, config.max_width);
         if (found && (!cut || found->drop > cut->drop)) {
           cut = found;
@@ -141,8 +142,8 @@ void split(const ObjectView& object, std::vector<std::size_t> points, double low
   for (const std::size_t i : points) {
     (object.points[i].head<2>().dot(cut->axis) < cut->at ? near : far).push_back(i);
   }
-  split(object, std::move(near), lowest, config, depth + 1, pieces);
-  split(object, std::move(far), lowest, config, depth + 1, pieces);
+  split(object, std::move(near), heights, config, depth + 1, pieces);
+  split(object, std::move(far), heights, config, depth + 1, pieces);
 }
 
 }  // namespace
@@ -156,11 +157,13 @@ std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSpl
     lowest = std::min(lowest, p.z());
   }
   std::vector<std::size_t> points(object.points.size());
+  std::vector<double> heights(object.points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     points[i] = i;
+    heights[i] = heightAbove(object, object.points[i], lowest);
   }
   std::vector<ObjectView> pieces;
-  split(object, std::move(points), lowest, config, 0, pieces);
+  split(object, std::move(points), heights, config, 0, pieces);
   return pieces;
 }
 

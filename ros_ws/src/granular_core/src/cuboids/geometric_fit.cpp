@@ -80,12 +80,15 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
     if (object.free_space != nullptr) {
       const Eigen::Isometry3d to_sensor = levelled->levelling.inverse();
       const double body_height = (config_.free_space.body_min + config_.free_space.body_max) / 2;
+      // A levelled place at body height, in the sensor frame the scan was binned in.
+      const auto at_body_height = [&](const Eigen::Vector2d& place) {
+        return to_sensor * Eigen::Vector3d(place.x(), place.y(), body_height);
+      };
       seen_empty = [&](const Eigen::Vector2d& place) {
-        return object.free_space->seenEmpty(to_sensor *
-                                            Eigen::Vector3d(place.x(), place.y(), body_height));
+        return object.free_space->seenEmpty(at_body_height(place));
       };
       const auto refutes = [&](const Eigen::Vector2d& place) {
-        const Eigen::Vector3d at = to_sensor * Eigen::Vector3d(place.x(), place.y(), body_height);
+        const Eigen::Vector3d at = at_body_height(place);
         return object.free_space->seenEmpty(at) || object.free_space->seenOccupied(at);
       };
       // Seen no longer than a car is wide, either side may be its length: not the one whose

@@ -17,8 +17,7 @@ using testing_support::RegistrationTest;
 TEST(IcpTest, UndoesAKnownRigidMotionAndConverges) {
   const KnownMotion scene;
   const IcpClassifierConfig config = convergingIcp();
-  const PreparedModels models = scene.prepared(config.max_correspondence_distance);
-  const PairResult result = prepareIcp(config, models)->aligner()->align(scene.source, 0);
+  const PairResult result = scene.aligned(prepareIcp, config);
   EXPECT_TRUE(result.converged()) << registrationStateName(result.state);
   EXPECT_GT(result.iterations, 1);
   EXPECT_LT(result.iterations, config.max_iterations);
@@ -29,8 +28,7 @@ TEST(IcpTest, StoppedByTheIterationLimitIsNotConvergence) {
   const KnownMotion scene;
   IcpClassifierConfig config = convergingIcp();
   config.max_iterations = 1;
-  const PreparedModels models = scene.prepared(config.max_correspondence_distance);
-  const PairResult result = prepareIcp(config, models)->aligner()->align(scene.source, 0);
+  const PairResult result = scene.aligned(prepareIcp, config);
   EXPECT_EQ(result.state, RegistrationState::kIterations);
   EXPECT_EQ(result.iterations, 1);
   EXPECT_GT(scene.residual(result.transform), 1e-3);  // one step is not enough
@@ -39,8 +37,7 @@ TEST(IcpTest, StoppedByTheIterationLimitIsNotConvergence) {
 TEST(IcpTest, ASourceOutOfReachHasNoCorrespondences) {
   const KnownMotion scene(Eigen::Vector3f(10.0f, 0.0f, 0.0f));
   const IcpClassifierConfig config = convergingIcp();
-  const PreparedModels models = scene.prepared(config.max_correspondence_distance);
-  const PairResult result = prepareIcp(config, models)->aligner()->align(scene.source, 0);
+  const PairResult result = scene.aligned(prepareIcp, config);
   EXPECT_EQ(result.state, RegistrationState::kNoCorrespondences);
   EXPECT_FALSE(result.converged());
 }

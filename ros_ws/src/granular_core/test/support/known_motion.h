@@ -46,6 +46,14 @@ struct KnownMotion {
     return models;
   }
 
+  // The source registered to the model by the method `prepare` sets up (prepareIcp,
+  // prepareIcpNl) with `config`.
+  template <class Prepare>
+  PairResult aligned(Prepare prepare, const IcpClassifierConfig& config) const {
+    const PreparedModels models = prepared(config.max_correspondence_distance);
+    return prepare(config, models)->aligner()->align(source, 0);
+  }
+
   // How far `transform` (source to model) is from undoing the motion: metres moved at the
   // model's corners, the largest.
   double residual(const Eigen::Matrix4f& transform) const {

@@ -95,9 +95,14 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.observation.reset();
   }
 
-  // Associate: the least total centre distance over the pairs both gates let through.
-  std::vector<double> costs(states_.size() * observations.size(),
-                            std::numeric_limits<double>::infinity());
+  // Associate: the least total cost, where a pair costs its centre distance and a track left
+  // without a cuboid costs its gate radius (a cuboid left out, nothing). Asking for the most
+  // pairs first instead shifted a parked row's tracks by one car each wherever a car at its
+  // end was missed and one at the other end seen (parking lot, docs/tracking.md): a track
+  // seen once has a gate wider than the row's spacing. So each track gets a column of its
+  // own that stands for "none", and the cuboids' columns come first.
+  const std::size_t columns = observations.size() + states_.size();
+  std::vector<double> costs(states_.size() * columns, std::numeric_limits<double>::infinity());
   const double r = config_.filter.position_std * config_.filter.position_std;
   for (std::size_t t = 0; t < states_.size(); ++t) {
     const State& state = states_[t];
@@ -116,12 +121,18 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
       const double distance = (box.centre().head<2>() - state.x.head<2>()).norm();
       if (distance <= radius &&
           (!overlap_gated || birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
-        costs[t * observations.size() + o] = distance;
+        costs[t * columns + o] = distance;
       }
     }
+    costs[t * columns + observations.size() + t] = radius;
   }
-  const std::vector<std::optional<std::size_t>> assigned =
-      assignMinimumCost(costs, states_.size(), observations.size());
+  std::vector<std::optional<std::size_t>> assigned =
+      assignMinimumCost(costs, states_.size(), columns);
+  for (std::optional<std::size_t>& column : assigned) {
+    if (column && *column >= observations.size()) {
+      column.reset();
+    }
+  }
 
   // Correct the matched tracks; count the misses of the others.
   std::vector<bool> taken(observations.size(), false);

@@ -313,6 +313,35 @@ TEST(TrackerTest, ANeighbourInTheNextLaneDoesNotTakeOverATrack) {
   EXPECT_EQ(run(0.0), (std::vector<std::uint32_t>{0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
 }
 
+TEST(TrackerTest, AParkedRowKeepsItsIdsWhenACarLeavesOneEndAndOneComesInAtTheOther) {
+  // Seven cars parked 2.6 m apart along x, passed by the sensor at 1 m/s (the parking lot):
+  // frame 0 sees cars 0 to 5, and from frame 1 on car 0 is behind the sensor and car 6 comes
+  // into view. A track seen once has no velocity yet and a gate wider than the spacing
+  // (about 3.3 m), so shifting every track one car along would pair all six; the least cost
+  // leaves car 0's track without a cuboid instead, and each car keeps its own track.
+  Tracker tracker(threeHits());
+  std::vector<std::vector<std::uint32_t>> ids;  // per frame, by car
+  for (int k = 0; k < 8; ++k) {
+    std::vector<Observation> frame;
+    for (int c = k == 0 ? 0 : 1; c <= (k == 0 ? 5 : 6); ++c) {
+      frame.push_back(car(2.6 * c - 0.1 * k, -6.0, M_PI / 2));
+    }
+    const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
+    std::vector<std::uint32_t> frame_ids;
+    for (std::size_t o = 0; o < frame.size(); ++o) {
+      frame_ids.push_back(idOf(tracks, o));
+    }
+    ids.push_back(frame_ids);
+  }
+  // Cars 1 to 5 born in frame 2 as tracks 1 to 5, car 6 (first seen in frame 1) in frame 3;
+  // car 0, seen once, never.
+  EXPECT_EQ(ids[2], (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 0}));
+  for (int k = 3; k < 8; ++k) {
+    EXPECT_EQ(ids[k], (std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6})) << "frame " << k;
+  }
+  EXPECT_EQ(tracker.born(), 6u);
+}
+
 TEST(TrackerTest, AFastCarIsFollowedFromItsSecondFrameOn) {
   // Oncoming at 22 m/s relative to the sensor, 5 frames a second: 4.4 m a frame, beyond the
   // 2 m gate, but a track seen once has no velocity yet and its gate is 3 standard deviations

@@ -126,6 +126,7 @@ TEST(ShippedConfigTest, CuboidsYamlStatesTheCuboidDefaults) {
 TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   granular::TrackingConfig tracking;
   tracking.gate.min_overlap = 0.0;  // values the file must set back
+  tracking.gate.max_sideways = 5.0;
   tracking.filter.yaw_window = 1;
   tracking.birth_misses = 0;
   tracking.vote = granular::ClassVote::kVotes;

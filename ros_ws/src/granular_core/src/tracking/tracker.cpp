@@ -95,47 +95,23 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.observation.reset();
   }
 
-  // Associate: the least total cost, where a pair costs its centre distance and a track left
-  // without a cuboid costs its gate radius (a cuboid left out, nothing). Asking for the most
-  // pairs first instead shifted a parked row's tracks by one car each wherever a car at its
-  // end was missed and one at the other end seen (parking lot, docs/tracking.md): a track
-  // seen once has a gate wider than the row's spacing. So each track gets a column of its
-  // own that stands for "none", and the cuboids' columns come first.
-  const std::size_t columns = observations.size() + states_.size();
-  std::vector<double> costs(states_.size() * columns, std::numeric_limits<double>::infinity());
-  const double r = config_.filter.position_std * config_.filter.position_std;
-  for (std::size_t t = 0; t < states_.size(); ++t) {
-    const State& state = states_[t];
-    const OrientedBox predicted = predictedBox(state);
-    const Eigen::Matrix2d innovation_covariance =
-        state.covariance.topLeftCorner<2, 2>() + r * Eigen::Matrix2d::Identity();
-    const double largest_std =
-        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(innovation_covariance,
-                                                                  Eigen::EigenvaluesOnly)
-                      .eigenvalues()
-                      .maxCoeff());
-    const double radius = std::max(config_.gate.max_distance, config_.gate.sigmas * largest_std);
-    const bool overlap_gated = config_.gate.min_overlap > 0.0 && state.hits > 1;
-    for (std::size_t o = 0; o < observations.size(); ++o) {
-      const OrientedBox& box = observations[o].box;
-      const double distance = (box.centre().head<2>() - state.x.head<2>()).norm();
-      if (distance <= radius &&
-          (!overlap_gated || birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
-        costs[t * columns + o] = distance;
+  // Associate: born tracks first, then tentative ones with the cuboids left (a track a few
+  // frames old took a parked car's cuboid from its born track in the frame after a misfit
+  // had pulled the born one aside; parking lot, docs/tracking.md).
+  std::vector<std::optional<std::size_t>> assigned(states_.size());
+  std::vector<bool> taken(observations.size(), false);
+  for (const bool born : {true, false}) {
+    std::vector<std::size_t> tracks;
+    for (std::size_t t = 0; t < states_.size(); ++t) {
+      if ((states_[t].id != 0) == born) {
+        tracks.push_back(t);
       }
     }
-    costs[t * columns + observations.size() + t] = radius;
-  }
-  std::vector<std::optional<std::size_t>> assigned =
-      assignMinimumCost(costs, states_.size(), columns);
-  for (std::optional<std::size_t>& column : assigned) {
-    if (column && *column >= observations.size()) {
-      column.reset();
-    }
+    associate(tracks, observations, taken, assigned);
   }
 
   // Correct the matched tracks; count the misses of the others.
-  std::vector<bool> taken(observations.size(), false);
+  const double r = config_.filter.position_std * config_.filter.position_std;
   for (std::size_t t = 0; t < states_.size(); ++t) {
     State& state = states_[t];
     if (!assigned[t]) {
@@ -145,7 +121,6 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
       continue;
     }
     const std::size_t o = *assigned[t];
-    taken[o] = true;
     const Observation& observation = observations[o];
     const Eigen::Vector2d innovation = observation.box.centre().head<2>() - state.x.head<2>();
     const Eigen::Matrix2d innovation_covariance =
@@ -222,6 +197,55 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   std::sort(tracks.begin(), tracks.end(),
             [](const Track& a, const Track& b) { return a.id < b.id; });
   return tracks;
+}
+
+void Tracker::associate(const std::vector<std::size_t>& tracks,
+                        const std::vector<Observation>& observations, std::vector<bool>& taken,
+                        std::vector<std::optional<std::size_t>>& assigned) const {
+  // The least total cost, where a pair costs its centre distance and a track left without a
+  // cuboid costs its gate radius (a cuboid left out, nothing). Asking for the most pairs first
+  // instead shifted a parked row's tracks by one car each wherever a car at its end was
+  // missed and one at the other end seen (parking lot, docs/tracking.md): a track seen once
+  // has a gate wider than the row's spacing. So each track has a column of its own that
+  // stands for "none", after the cuboids' columns.
+  const std::size_t columns = observations.size() + tracks.size();
+  std::vector<double> costs(tracks.size() * columns, std::numeric_limits<double>::infinity());
+  const double r = config_.filter.position_std * config_.filter.position_std;
+  for (std::size_t row = 0; row < tracks.size(); ++row) {
+    const State& state = states_[tracks[row]];
+    const OrientedBox predicted = predictedBox(state);
+    const Eigen::Matrix2d innovation_covariance =
+        state.covariance.topLeftCorner<2, 2>() + r * Eigen::Matrix2d::Identity();
+    const double largest_std =
+        std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(innovation_covariance,
+                                                                  Eigen::EigenvaluesOnly)
+                      .eigenvalues()
+                      .maxCoeff());
+    const double radius = std::max(config_.gate.max_distance, config_.gate.sigmas * largest_std);
+    const bool seen_once = state.hits == 1;
+    const bool overlap_gated = config_.gate.min_overlap > 0.0 && !seen_once;
+    const Eigen::Vector2d across(-std::sin(state.yaw), std::cos(state.yaw));
+    for (std::size_t o = 0; o < observations.size(); ++o) {
+      const OrientedBox& box = observations[o].box;
+      const Eigen::Vector2d offset = box.centre().head<2>() - state.x.head<2>();
+      const double distance = offset.norm();
+      if (!taken[o] && distance <= radius &&
+          (!seen_once || std::abs(offset.dot(across)) <= config_.gate.max_sideways) &&
+          (!overlap_gated || birdEyeOverlap(predicted, box) >= config_.gate.min_overlap)) {
+        costs[row * columns + o] = distance;
+      }
+    }
+    costs[row * columns + observations.size() + row] = radius;
+  }
+  const std::vector<std::optional<std::size_t>> columns_assigned =
+      assignMinimumCost(costs, tracks.size(), columns);
+  for (std::size_t row = 0; row < tracks.size(); ++row) {
+    const std::optional<std::size_t>& column = columns_assigned[row];
+    if (column && *column < observations.size()) {
+      assigned[tracks[row]] = *column;
+      taken[*column] = true;
+    }
+  }
 }
 
 void Tracker::takeYaw(State& state, double yaw) const {

@@ -24,6 +24,9 @@ TEST(TrackingConfigTest, TheDefaultsAreValidAndBadValuesNameTheirField) {
   config.gate.max_distance = 0.0;
   EXPECT_NE(problem(config).find("gate.max_distance"), std::string::npos);
   config = TrackingConfig();
+  config.gate.max_sideways = 0.0;  // a track seen once could take no detection
+  EXPECT_NE(problem(config).find("gate.max_sideways"), std::string::npos);
+  config = TrackingConfig();
   config.filter.yaw_window = 0;  // the yaw would follow no detection
   EXPECT_NE(problem(config).find("filter.yaw_window"), std::string::npos);
   config = TrackingConfig();

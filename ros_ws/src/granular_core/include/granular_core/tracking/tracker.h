@@ -109,6 +109,12 @@ class Tracker {
   // The track's predicted box at the stamp being taken (the filter's x-y, the rest smoothed).
   OrientedBox predictedBox(const State& state) const;
   Track reported(const State& state) const;
+  // Pairs the tracks `tracks` (indices into states_) with the observations not yet `taken`,
+  // each within its gates, at the least total cost; marks what it pairs in `assigned` (per
+  // state) and `taken`.
+  void associate(const std::vector<std::size_t>& tracks,
+                 const std::vector<Observation>& observations, std::vector<bool>& taken,
+                 std::vector<std::optional<std::size_t>>& assigned) const;
   // Takes a detection's yaw into the track's: the median of the latest yaw_window.
   void takeYaw(State& state, double yaw) const;
   // Adds the observation's label to the track's class decision (the abstain label does not

@@ -34,6 +34,12 @@ struct TrackingGateConfig {
   /// alone decides): two cars side by side in adjacent lanes do not overlap. Not asked of a
   /// track seen once, whose predicted place is not known well enough to overlap.
   double min_overlap = 0.1;
+  /// m: a track seen once takes a detection at most this far across its first cuboid's length
+  /// axis (a car moves along its length), where its widened gate would reach the next car of a
+  /// parked row: a tentative track stepping from car to car was born as a track running along
+  /// the row at 24 m/s and took a parked car's cuboid from that car's track (parking lot,
+  /// docs/tracking.md).
+  double max_sideways = 1.0;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -41,6 +47,7 @@ struct TrackingGateConfig {
     visit("max_distance", self.max_distance, positive("m"));
     visit("sigmas", self.sigmas, nonNegative("standard deviations"));
     visit("min_overlap", self.min_overlap, fraction());
+    visit("max_sideways", self.max_sideways, positive("m"));
   }
 };
 

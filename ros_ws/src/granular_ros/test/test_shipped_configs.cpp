@@ -135,15 +135,17 @@ TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 
-TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeClouds) {
-  // online.launch loads it over tracking.yaml: the births only differ.
+TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeCloudsAndEndsThemAfterTwelve) {
+  // online.launch loads it over tracking.yaml: the births and deaths only differ.
   granular::TrackingConfig tracking;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
   ASSERT_NO_THROW(
       loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking_online.yaml", tracking));
   EXPECT_NO_THROW(granular::validate(tracking));
   EXPECT_EQ(tracking.birth_hits, 3u);
+  EXPECT_EQ(tracking.death_misses, 12u);
   tracking.birth_hits = granular::TrackingConfig().birth_hits;
+  tracking.death_misses = granular::TrackingConfig().death_misses;
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 

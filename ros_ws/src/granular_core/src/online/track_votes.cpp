@@ -7,16 +7,20 @@ TrackLabel TrackVotes::vote(std::int64_t id, const std::string& label, double st
   ++track.counts[label];
   ++track.votes;
   track.last_seen = stamp;
-  TrackLabel decision{label, 0.0, track.votes};
-  std::size_t most = track.counts[label];  // ties go to this frame's label
+  // A tie keeps the label the track holds: a tag that turned on every tie flickered in rviz
+  // (docs/online.md#the-track-vote).
+  if (track.held.empty()) {
+    track.held = label;
+  }
+  std::size_t most = track.counts[track.held];
   for (const auto& [name, count] : track.counts) {
     if (count > most) {
       most = count;
-      decision.label = name;
+      track.held = name;
     }
   }
-  decision.share = static_cast<double>(most) / static_cast<double>(track.votes);
-  return decision;
+  return TrackLabel{track.held, static_cast<double>(most) / static_cast<double>(track.votes),
+                    track.votes};
 }
 
 void TrackVotes::forget(double stamp) {

@@ -1,4 +1,4 @@
-// One vote per frame per track: the most frequent label wins, ties go to the latest frame,
+// One vote per frame per track: the most frequent label wins, a tie keeps the label held,
 // tracks are separate, and a track not seen for a while starts again.
 #include <gtest/gtest.h>
 
@@ -7,20 +7,23 @@
 namespace granular {
 namespace {
 
-TEST(TrackVotesTest, TheMostFrequentLabelWinsAndTiesGoToTheLatestFrame) {
+TEST(TrackVotesTest, TheMostFrequentLabelWinsAndATieKeepsTheLabelHeld) {
   TrackVotes votes;
   EXPECT_EQ(votes.vote(7, "Sedan", 0.0).label, "Sedan");
   const TrackLabel tie = votes.vote(7, "Hatchback", 0.1);
-  EXPECT_EQ(tie.label, "Hatchback");  // 1 : 1, the latest frame's
+  EXPECT_EQ(tie.label, "Sedan");  // 1 : 1, the label held
   EXPECT_DOUBLE_EQ(tie.share, 0.5);
-  EXPECT_EQ(votes.vote(7, "Sedan", 0.2).label, "Sedan");  // 2 : 1
-  const TrackLabel outvoted = votes.vote(7, "Hatchback", 0.3);
-  EXPECT_EQ(outvoted.label, "Hatchback");  // 2 : 2 again
+  EXPECT_EQ(votes.vote(7, "Sedan", 0.2).label, "Sedan");      // 2 : 1
+  EXPECT_EQ(votes.vote(7, "Hatchback", 0.3).label, "Sedan");  // 2 : 2 again
   const TrackLabel settled = votes.vote(7, "Sedan", 0.4);
   EXPECT_EQ(settled.label, "Sedan");
   EXPECT_EQ(settled.votes, 5u);
   EXPECT_DOUBLE_EQ(settled.share, 0.6);
-  EXPECT_EQ(votes.vote(7, "Jeep", 0.5).label, "Sedan");  // 3 : 2 : 1
+  EXPECT_EQ(votes.vote(7, "Jeep", 0.5).label, "Sedan");       // 3 : 2 : 1
+  EXPECT_EQ(votes.vote(7, "Hatchback", 0.6).label, "Sedan");  // 3 : 3 : 1
+  const TrackLabel overtaken = votes.vote(7, "Hatchback", 0.7);
+  EXPECT_EQ(overtaken.label, "Hatchback");  // 3 : 4 : 1
+  EXPECT_DOUBLE_EQ(overtaken.share, 0.5);
 }
 
 TEST(TrackVotesTest, TracksVoteApart) {
@@ -40,7 +43,7 @@ TEST(TrackVotesTest, ATrackUnseenForLongStartsAgain) {
   votes.forget(2.5);  // track 1 last seen 2.4 s ago, track 2 1.0 s ago
   EXPECT_EQ(votes.tracks(), 1u);
   EXPECT_EQ(votes.vote(1, "Jeep", 2.5).label, "Jeep");  // id 1 is a new vehicle now
-  EXPECT_EQ(votes.vote(2, "SUV", 2.5).label, "SUV");    // 1 : 1, the latest frame's
+  EXPECT_EQ(votes.vote(2, "SUV", 2.5).label, "Jeep");   // 1 : 1, the label track 2 held
 }
 
 }  // namespace

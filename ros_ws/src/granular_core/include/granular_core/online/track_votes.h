@@ -15,8 +15,8 @@ struct TrackLabel {
 };
 
 /// One vote per frame for each track (a detection id, stable across frames as in the second
-/// paper's tracking): a track's label is the one its frames gave most often so far, ties going
-/// to the most recent frame's (docs/online.md has what it gives). Tracks not seen for
+/// paper's tracking): a track's label is the one its frames gave most often so far; on a tie
+/// it keeps the label it held (docs/online.md has what it gives). Tracks not seen for
 /// `forget_after` seconds are dropped: ids are reused.
 class TrackVotes {
  public:
@@ -33,6 +33,7 @@ class TrackVotes {
     std::map<std::string, std::size_t> counts;
     std::size_t votes = 0;
     double last_seen = 0.0;
+    std::string held;  // the label decided in its latest frame
   };
   double forget_after_;
   std::map<std::int64_t, Track> tracks_;

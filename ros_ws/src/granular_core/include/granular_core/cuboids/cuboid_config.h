@@ -177,7 +177,8 @@ struct VehicleSplitConfig {
   /// apart are searched (two cars seen at a slant); 0: the rectangle's sides only.
   double search_step_deg = 5.0;
   /// m: ... for a footprint wider than this (single cars seen at a slant show valleys across
-  /// their diagonals) or longer than max_length.
+  /// their diagonals) or longer than max_length; one wider than max_width but not than this is
+  /// cut there only at a run of empty bins (the ground between two bodies).
   double search_min_width = 2.3;
 
   template <class Self, class Visit>

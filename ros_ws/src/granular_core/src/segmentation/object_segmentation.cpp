@@ -512,12 +512,42 @@ std::optional<PeeledWall> peelWall(const LinkCells& frame, const std::vector<std
 struct FrameCells {
   const Cloud& cloud;
   const std::vector<float>& heights;
+  double sensor_height;  // m above the ground
   int side;
   const std::vector<std::uint32_t>& occupied;
   const std::vector<std::uint32_t>& start;
   const std::vector<std::size_t>& by_cell;
   const std::vector<float>& top_of_cell;
 };
+
+// Whether the line of sight from the sensor to `centre` (x, y) at `height` m above the ground
+// passes within `margin` over the top of an occupied cell nearer than it by a metre or more:
+// then the sensor could not have seen what stands under it there.
+bool footHidden(const FrameCells& frame, const Eigen::Vector2d& centre, double height,
+                const ObjectSegmentationConfig& config, double margin) {
+  const PlaneGrid grid(config.cell_size, config.max_range);
+  const Eigen::Vector2d& to = centre;
+  const double range = to.norm();
+  const Eigen::Vector2d direction = to / range;
+  for (double r = config.min_range; r < range - 1.0; r += config.cell_size) {
+    const Eigen::Vector2d at = direction * r;
+    const std::optional<std::size_t> cell = grid.cellOf(at.x(), at.y());
+    if (!cell) {
+      continue;
+    }
+    const auto found =
+        std::lower_bound(frame.occupied.begin(), frame.occupied.end(), *cell);
+    if (found == frame.occupied.end() || *found != *cell) {
+      continue;
+    }
+    const double sight = frame.sensor_height + (height - frame.sensor_height) * r / range;
+    if (frame.top_of_cell[static_cast<std::size_t>(found - frame.occupied.begin())] >=
+        sight - margin) {
+      return true;
+    }
+  }
+  return false;
+}
 
 // The segment of `cells` (ascending) through the gates, cheapest first: most components are a
 // few stray points, and the footprint's hull and the covariance are only needed for the rest.
@@ -581,11 +611,14 @@ std::optional<Rejection> gateSegment(const FrameCells& frame,
     low = low.cwiseMin(xy);
     high = high.cwiseMax(xy);
   }
-  shape.range = (mean / static_cast<double>(indices.size())).norm();
+  mean /= static_cast<double>(indices.size());
+  shape.range = mean.norm();
   if (shape.top < gates.min_top) {
     return Rejection::kMinTop;
   }
-  if (shape.bottom > gates.max_bottom + gates.max_bottom_per_m * shape.range) {
+  if (shape.bottom > gates.max_bottom + gates.max_bottom_per_m * shape.range &&
+      (shape.bottom > gates.max_hidden_bottom || shape.top > gates.max_hidden_top ||
+       !footHidden(frame, mean, shape.bottom, config, gates.hidden_foot_margin))) {
     return Rejection::kMaxBottom;
   }
   if (shape.column_top > gates.max_column_top) {
@@ -706,7 +739,13 @@ ObjectSegmentation ObjectSegmenter::segment(const Cloud& cloud, GroundEstimate g
       groupsOf(components, occupied.size());
 
   // The gates read the frame's cells through this view (gateSegment).
-  const FrameCells frame{cloud, heights, grid.side, occupied, on_grid.start, on_grid.by_cell,
+  const FrameCells frame{cloud,
+                         heights,
+                         result.ground.plane.heightOf(Eigen::Vector3d::Zero()),
+                         grid.side,
+                         occupied,
+                         on_grid.start,
+                         on_grid.by_cell,
                          on_grid.top_of_cell};
 
   const WallPeeling& walls = config.walls;

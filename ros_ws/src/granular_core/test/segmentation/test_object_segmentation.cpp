@@ -99,6 +99,32 @@ TEST(ObjectSegmentationTest, WallsPolesAndKerbsAreGatedOutAndCounted) {
   EXPECT_EQ(result.rejected.at("min_top"), 1u);
 }
 
+TEST(ObjectSegmentationTest, ACarSeenOverAnothersRoofStandsWhereItsFootIsHidden) {
+  // A car 12 m ahead seen above 1.2 m only: the car parked 8 m ahead, 1.5 m tall, hides the
+  // rest from the sensor 1.73 m up.
+  Cloud cloud = road();
+  const std::set<std::size_t> front = addBox(cloud, {8.0, 0.0}, 0.0, {4.4, 1.8, 1.5});
+  const std::set<std::size_t> behind =
+      addBox(cloud, {12.5, 0.0}, 0.0, {1.8, 4.4, 1.6}, 0.05, 1.2);
+  const ObjectSegmentation result = segmentObjects(cloud, roadGround());
+  const std::vector<std::set<std::size_t>> found = pointsOf(result);
+  EXPECT_EQ(std::set<std::set<std::size_t>>(found.begin(), found.end()),
+            (std::set<std::set<std::size_t>>{front, behind}));
+
+  // Alone, the same points float: a canopy or an awning, not standing on the road.
+  Cloud alone = road();
+  addBox(alone, {12.5, 0.0}, 0.0, {1.8, 4.4, 1.6}, 0.05, 1.2);
+  const ObjectSegmentation floating = segmentObjects(alone, roadGround());
+  EXPECT_TRUE(floating.segments.empty());
+  EXPECT_EQ(floating.rejected.at("max_bottom"), 1u);
+
+  // Taller than a car, a hidden foot does not make it stand: a hedge behind parked cars.
+  Cloud hedge = road();
+  addBox(hedge, {8.0, 0.0}, 0.0, {4.4, 1.8, 1.5});
+  addBox(hedge, {12.5, 0.0}, 0.0, {1.8, 4.4, 2.6}, 0.05, 1.2);
+  EXPECT_EQ(segmentObjects(hedge, roadGround()).segments.size(), 1u);
+}
+
 // The face turned to the sensor of a panel along x, at `y`, from `bottom` to `top` above the
 // road, reaching down to 0.3 m within 0.5 m of each of `legs` (wheels, posts).
 void addPanel(Cloud& cloud, double y, double length, double bottom, double top,

@@ -28,10 +28,12 @@ inline Cloud road() {
   return cloud;
 }
 
-// The faces of an upright box standing on the road, sampled every `step` metres; returns
-// the indices of its points.
+// The faces of an upright box standing on the road, sampled every `step` metres from `bottom`
+// m above the road (its foot, where the road is in the way of the returns, or higher where the
+// sensor saw no more of it) to its top; returns the indices of its points.
 inline std::set<std::size_t> addBox(Cloud& cloud, const Eigen::Vector2d& centre, double yaw,
-                             const Eigen::Vector3d& size, double step = 0.05) {
+                             const Eigen::Vector3d& size, double step = 0.05,
+                             double bottom = 0.3) {
   std::set<std::size_t> added;
   const Eigen::Rotation2Dd rotation(yaw);
   const auto add = [&](double u, double v, double h) {
@@ -40,7 +42,7 @@ inline std::set<std::size_t> addBox(Cloud& cloud, const Eigen::Vector2d& centre,
     cloud.push_back(PointXYZIT(static_cast<float>(p.x()), static_cast<float>(p.y()),
                                static_cast<float>(-kSensorHeight + h), 0, 0.0));
   };
-  for (double h = 0.3; h <= size.z() + 1e-9; h += step) {
+  for (double h = bottom; h <= size.z() + 1e-9; h += step) {
     for (double u = -size.x() / 2; u <= size.x() / 2 + 1e-9; u += step) {
       add(u, -size.y() / 2, h);
       add(u, size.y() / 2, h);

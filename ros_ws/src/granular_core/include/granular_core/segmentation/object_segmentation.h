@@ -42,6 +42,14 @@ struct SegmentGates {
   /// with the gap between scan rings.
   double max_bottom = 0.5;
   double max_bottom_per_m = 0.01;
+  /// m: ... unless a nearer object hides its foot from the sensor (the line of sight to its
+  /// lowest return passes within hidden_foot_margin over a nearer cell's top: a car seen over
+  /// another's roof), up to this; 0: never.
+  double max_hidden_bottom = 1.6;
+  double hidden_foot_margin = 0.2;  ///< m
+  /// m: ... for a segment no taller than a car; a taller one with a hidden foot may be a
+  /// hedge or wall behind parked cars, which the vehicle decision would take for a truck.
+  double max_hidden_top = 2.2;
   /// deg and m: points whose least-variance direction lies within terrain_angle_deg of
   /// vertical with a spread below terrain_thickness are a raised surface (a ramp, a pavement
   /// edge), not an object.
@@ -71,6 +79,9 @@ struct SegmentGates {
     visit("min_top", self.min_top, nonNegative("m"));
     visit("max_bottom", self.max_bottom, nonNegative("m"));
     visit("max_bottom_per_m", self.max_bottom_per_m, nonNegative("m/m"));
+    visit("max_hidden_bottom", self.max_hidden_bottom, nonNegative("m"));
+    visit("hidden_foot_margin", self.hidden_foot_margin, nonNegative("m"));
+    visit("max_hidden_top", self.max_hidden_top, nonNegative("m"));
     visit("terrain_angle_deg", self.terrain_angle_deg, interval(0, 90, "deg"));
     visit("terrain_thickness", self.terrain_thickness, nonNegative("m"));
     visit("pole_diagonal", self.pole_diagonal, nonNegative("m"));

@@ -269,6 +269,17 @@ struct VehicleEvidenceConfig {
   double profile_min_length = 2.5;  ///< m
   double min_profile_drop = 0.0;    ///< m
   double profile_bin = 0.4;         ///< m
+  /// A truck or bus seen end on (an object at least min_long_top tall seen no longer than
+  /// end_on_max_length) shows its rear or front as a face across the line of sight, as wide as
+  /// the vehicle up to its roof: its returns within end_face_band of its top that lie within end_face_depth of the
+  /// nearest of them along the cuboid's length span at least end_face_min_width across it.
+  /// Such an object is not refused for its clearance or the flatness of its faces (its wheels
+  /// and bumper hide the road under it; a cab seen in front of its box is a face nearer than
+  /// the box's): tree crowns and bushes as tall are rounded, narrower at the top.
+  double end_on_max_length = 3.5;   ///< m
+  double end_face_band = 0.4;       ///< m below the top
+  double end_face_depth = 0.2;      ///< m
+  double end_face_min_width = 1.6;  ///< m
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -304,6 +315,10 @@ struct VehicleEvidenceConfig {
     visit("profile_min_length", self.profile_min_length, nonNegative("m"));
     visit("min_profile_drop", self.min_profile_drop, nonNegative("m"));
     visit("profile_bin", self.profile_bin, atLeast(0.05, "m"));
+    visit("end_on_max_length", self.end_on_max_length, nonNegative("m"));
+    visit("end_face_band", self.end_face_band, positive("m"));
+    visit("end_face_depth", self.end_face_depth, nonNegative("m"));
+    visit("end_face_min_width", self.end_face_min_width, positive("m"));
   }
 };
 

@@ -8,6 +8,24 @@
 
 namespace granular {
 
+// Inline: the constructor calls both for each of a frame's 120,000 returns.
+inline std::optional<std::size_t> FreeSpace::cellOf(double x, double y) const {
+  const double half = static_cast<double>(side_ / 2);
+  const double column = std::floor(x / cell_) + half, row = std::floor(y / cell_) + half;
+  if (side_ == 0 || column < 0.0 || row < 0.0 || column >= static_cast<double>(side_) ||
+      row >= static_cast<double>(side_)) {
+    return std::nullopt;
+  }
+  return static_cast<std::size_t>(row) * side_ + static_cast<std::size_t>(column);
+}
+
+inline std::size_t FreeSpace::binOf(double x, double y) const {
+  // The angle from -pi lies in [0, 2 pi], so the bin is at most one past the last: a
+  // comparison wraps it, sparing each point of the scan an integer division.
+  const auto bin = static_cast<std::size_t>((fastAtan2(y, x) + M_PI) / bin_);
+  return bin < blocked_.size() ? bin : bin % blocked_.size();
+}
+
 FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSpaceConfig& config)
     : bin_(config.bin_deg * M_PI / 180.0),
       cell_(config.occupied_cell),
@@ -28,17 +46,20 @@ FreeSpace::FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSp
     if (!p.allFinite()) {
       continue;
     }
-    const double range = p.head<2>().norm();
     const double height = ground.heightOf(p);
+    if (height > config.body_max) {
+      continue;  // above the band: neither blocks it nor tells how far it was seen
+    }
+    const double range = p.head<2>().norm();
     const std::size_t bin = binOf(p.x(), p.y());
     float reach = 0.0f;
-    if (height >= config.body_min && height <= config.body_max) {
+    if (height >= config.body_min) {
       blocked_[bin] = std::min(blocked_[bin], static_cast<float>(range));
       reach = static_cast<float>(range);
       if (const std::optional<std::size_t> cell = cellOf(p.x(), p.y())) {
         occupied_[*cell / 64] |= std::uint64_t{1} << (*cell % 64);
       }
-    } else if (height < config.body_min && sensor_height > config.body_min) {
+    } else if (sensor_height > config.body_min) {
       // The ray came down from the sensor to the road: it was in the band until here.
       reach = static_cast<float>(range * (sensor_height - config.body_min) /
                                  (sensor_height - height));
@@ -62,23 +83,6 @@ bool FreeSpace::seenOccupied(const Eigen::Vector3d& point) const {
   }
   const std::optional<std::size_t> cell = cellOf(point.x(), point.y());
   return cell && (occupied_[*cell / 64] >> (*cell % 64) & 1u) != 0;
-}
-
-std::optional<std::size_t> FreeSpace::cellOf(double x, double y) const {
-  const double half = static_cast<double>(side_ / 2);
-  const double column = std::floor(x / cell_) + half, row = std::floor(y / cell_) + half;
-  if (side_ == 0 || column < 0.0 || row < 0.0 || column >= static_cast<double>(side_) ||
-      row >= static_cast<double>(side_)) {
-    return std::nullopt;
-  }
-  return static_cast<std::size_t>(row) * side_ + static_cast<std::size_t>(column);
-}
-
-std::size_t FreeSpace::binOf(double x, double y) const {
-  // The angle from -pi lies in [0, 2 pi], so the bin is at most one past the last: a
-  // comparison wraps it, sparing each point of the scan an integer division.
-  const auto bin = static_cast<std::size_t>((fastAtan2(y, x) + M_PI) / bin_);
-  return bin < blocked_.size() ? bin : bin % blocked_.size();
 }
 
 }  // namespace granular

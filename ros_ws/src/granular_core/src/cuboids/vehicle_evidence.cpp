@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "granular_core/geometry/fast_atan2.h"
+
 namespace granular {
 namespace {
 
@@ -38,6 +40,17 @@ const char* verdictName(VehicleVerdict verdict) {
   return "?";
 }
 
+inline std::size_t VehicleEvidence::binOf(double x, double y) const {
+  // The library's atan2 was a third of the decision's time on a 120,000-point frame; a bin of
+  // tenths of a degree needs no more than fastAtan2's 1e-4 rad.
+  double angle = fastAtan2(y, x) + kPi + first_edge_;
+  if (angle >= 2.0 * kPi) {
+    angle -= 2.0 * kPi;
+  }
+  const auto bin = static_cast<std::size_t>(angle / bin_);
+  return bin >= bins_ ? bins_ - 1 : bin;
+}
+
 VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
                                  const VehicleEvidenceConfig& config, double azimuth_step_deg)
     : config_(config),
@@ -51,6 +64,9 @@ VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
   min_body_points_ = static_cast<std::size_t>(std::ceil(config.min_body_points * density));
   bins_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(360.0 / bin_deg)));
   bin_ = 2.0 * kPi / static_cast<double>(bins_);
+  // Edges half a step off the sensor's firing azimuths, so that each bin holds the same
+  // columns of returns whatever the rounding of their angles.
+  first_edge_ = 0.5 * azimuth_step_deg * kPi / 180.0;
   // A counting sort of the finite returns by bin.
   std::vector<std::uint32_t> bin_of(cloud.size(), 0);
   first_.assign(bins_ + 1, 0);
@@ -74,14 +90,9 @@ VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
     }
     const PointXYZIT& p = cloud[i];
     const Eigen::Vector3d point(p.x, p.y, p.z);
-    returns_[next[bin_of[i]]++] = {static_cast<float>(std::hypot(point.x(), point.y())),
+    returns_[next[bin_of[i]]++] = {static_cast<float>(point.head<2>().norm()),
                                    static_cast<float>(ground_.heightOf(point))};
   }
-}
-
-std::size_t VehicleEvidence::binOf(double x, double y) const {
-  const auto bin = static_cast<std::size_t>((std::atan2(y, x) + kPi) / bin_);
-  return bin >= bins_ ? bins_ - 1 : bin;
 }
 
 VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
@@ -113,7 +124,7 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
           half;
     const double u = p.x() * cos_yaw + p.y() * sin_yaw;
     const double v = -p.x() * sin_yaw + p.y() * cos_yaw;
-    seen.push_back({bin, std::hypot(p.x(), p.y()), height, u, v});
+    seen.push_back({bin, p.head<2>().norm(), height, u, v});
     ++cues.points;
     cues.top = std::max(cues.top, height);
     u_min = std::min(u_min, u), u_max = std::max(u_max, u);

@@ -348,6 +348,11 @@ struct GeometricFitConfig {
   /// 0.66 deg apart, 0.38 m at 33 m; KITTI's about 0.4 deg).
   double cap_reach = 0.1;
   double cap_reach_deg = 0.7;
+  /// m: an object taller than this (than any car) whose top is more than cap_reach lower
+  /// than the prior nearest it in height is fitted as one that reached its height cap: the sensor's highest ring may
+  /// have passed under its roof (the HDL-64E's, 2 degrees up, passes 2.7 m above the road 29 m
+  /// away, where a 3.3 m box truck then looked nearest the 3.1 m bus).
+  double cut_top_above = 2.2;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -361,6 +366,7 @@ struct GeometricFitConfig {
     visit("height_points", self.height_points, nonNegative("points"));
     visit("cap_reach", self.cap_reach, nonNegative("m"));
     visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));
+    visit("cut_top_above", self.cut_top_above, nonNegative("m"));
   }
 };
 

@@ -1,5 +1,7 @@
 #include "granular_core/cuboids/frame_cuboids.h"
 
+#include <cmath>
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -8,6 +10,40 @@
 #include "granular_core/parallel.h"
 
 namespace granular {
+std::vector<std::optional<double>> lentHeadings(
+    const std::vector<std::optional<FittedCuboid>>& fitted,
+    const std::vector<bool>& vehicle, const NeighbourHeadingConfig& config) {
+  std::vector<std::optional<double>> lent(fitted.size());
+  const double min_turn = config.min_turn_deg * M_PI / 180.0;
+  const auto turn = [](double from, double to) { return std::abs(std::remainder(to - from, M_PI)); };
+  for (std::size_t i = 0; i < fitted.size(); ++i) {
+    if (!fitted[i] || fitted[i]->heading_seen || !vehicle[i]) {
+      continue;
+    }
+    const Eigen::Vector2d centre = fitted[i]->box.centre().head<2>();
+    std::vector<double> near;
+    for (std::size_t j = 0; j < fitted.size(); ++j) {
+      if (j != i && fitted[j] && fitted[j]->heading_seen && vehicle[j] &&
+          (fitted[j]->box.centre().head<2>() - centre).norm() <= config.radius) {
+        near.push_back(fitted[j]->box.yaw());
+      }
+    }
+    // The heading most neighbours share (within half min_turn), when all but a third do.
+    std::size_t best = 0;
+    for (const double heading : near) {
+      const auto agree = static_cast<std::size_t>(std::count_if(
+          near.begin(), near.end(), [&](double other) { return turn(heading, other) < min_turn / 2; }));
+      if (agree > best) {
+        best = agree;
+        lent[i] = heading;
+      }
+    }
+    if (best < 2 || 3 * best < 2 * near.size() || turn(fitted[i]->box.yaw(), *lent[i]) < min_turn) {
+      lent[i].reset();
+    }
+  }
+  return lent;
+}
 
 FrameCuboids fitFrameObjects(const std::vector<FrameObject>& objects, const CuboidFitter& fitter,
                              const FrameCuboidsOptions& options) {
@@ -49,6 +85,27 @@ FrameCuboids fitFrameObjects(const std::vector<FrameObject>& objects, const Cubo
           options.evidence->judge(options.evidence->measure(pieces[i].view.points, fitted[i]->box));
     }
   });
+  if (options.evidence != nullptr && options.neighbour_heading.radius > 0.0) {
+    // A heading left open takes the nearest seen one's, as fitted above (not as lent here).
+    std::vector<bool> vehicle(pieces.size());
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      vehicle[i] = verdicts[i] == VehicleVerdict::kVehicle;
+    }
+    const std::vector<std::optional<double>> lent =
+        lentHeadings(fitted, vehicle, options.neighbour_heading);
+    parallelFor(pieces.size(), options.threads, 1, [&](std::size_t i) {
+      if (!lent[i]) {
+        return;
+      }
+      ObjectView view = pieces[i].view;
+      view.heading = lent[i];
+      if (std::optional<FittedCuboid> turned = fitter.fit(view)) {
+        fitted[i] = std::move(turned);
+        verdicts[i] =
+            options.evidence->judge(options.evidence->measure(view.points, fitted[i]->box));
+      }
+    });
+  }
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     if (!fitted[i]) {
       ++result.without_cuboid;
@@ -79,6 +136,7 @@ FrameCuboids fitSegmentCuboids(const Cloud& cloud, const ObjectSegmentation& seg
   FrameCuboidsOptions options;
   options.evidence = evidence ? &*evidence : nullptr;
   options.split = config.split;
+  options.neighbour_heading = config.neighbour_heading;
   options.first_split_id = static_cast<std::int64_t>(objects.size());
   options.threads = threads;
   return fitFrameObjects(objects, fitter, options);

@@ -48,6 +48,13 @@ bool isRider(const cuboids::LevelledObject& object, const AxisRectangle& rectang
              config.rider_width;
 }
 
+// `heading` (rad, sensor frame) as a heading in `object`'s levelled frame.
+double levelledHeading(const cuboids::LevelledObject& object, double heading) {
+  const Eigen::Vector3d along =
+      object.levelling.linear() * Eigen::Vector3d(std::cos(heading), std::sin(heading), 0.0);
+  return std::atan2(along.y(), along.x());
+}
+
 }  // namespace
 
 GeometricCuboidFitter::GeometricCuboidFitter(const CuboidConfig& config) : config_(config) {
@@ -60,7 +67,9 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
   if (!levelled) {
     return std::nullopt;
   }
-  AxisRectangle rectangle = cuboids::lshapeRectangle(*levelled, config_.lshape);
+  AxisRectangle rectangle = object.heading ? cuboids::enclosingRectangle(
+                                                 *levelled, levelledHeading(*levelled, *object.heading))
+                                           : cuboids::lshapeRectangle(*levelled, config_.lshape);
   const Eigen::Vector2d seen = rectangle.extent();
   const double cap_reach = cuboids::spanAt(levelled->range, config_.geometric.cap_reach,
                                            config_.geometric.cap_reach_deg);
@@ -72,8 +81,12 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
           : nullptr;
   const int longer = seen.x() >= seen.y() ? 0 : 1;
   const Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
+  // Seen longer than the class is wide, the length can only lie along the longer side.
+  const bool heading_seen =
+      prior == nullptr || body.maxCoeff() > prior->width + config_.geometric.width_tolerance;
   int length_axis =
-      prior != nullptr ? cuboids::lengthAxis(body, prior->width, config_.geometric.width_tolerance,
+      object.heading   ? 0
+      : prior != nullptr ? cuboids::lengthAxis(body, prior->width, config_.geometric.width_tolerance,
                                              rectangle.coordinates(rectangle.centre() -
                                                                    levelled->sensor),
                                              [&] { return cuboids::acrossShortfall(*levelled); })
@@ -96,7 +109,7 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
       };
       // Seen no longer than a car is wide, either side may be its length: not the one whose
       // body would stand where the scan saw nothing or another object.
-      if (config_.free_space.refuted_margin > 0 &&
+      if (config_.free_space.refuted_margin > 0 && !object.heading &&
           body.maxCoeff() <= prior->width + config_.geometric.width_tolerance) {
         const auto refuted = [&](int axis, std::size_t enough) {
           return cuboids::refutedGrowth(rectangle, levelled->sensor, axis, prior->length,
@@ -125,7 +138,7 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
       cuboids::sensorBox(levelled->levelling, rectangle.centre(), yaw,
                          Eigen::Vector3d(extent[length_axis], extent[1 - length_axis],
                                          std::max(height, config_.lshape.cell))),
-      levelled->points.size()};
+      levelled->points.size(), heading_seen && !object.heading};
   return cuboid;
 }
 

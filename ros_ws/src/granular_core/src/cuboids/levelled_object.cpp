@@ -178,6 +178,20 @@ int lengthAxis(const Eigen::Vector2d& seen, double width, double tolerance,
   return longer_gap <= shorter_gap ? 1 - longer : longer;
 }
 
+AxisRectangle enclosingRectangle(const LevelledObject& object, double heading) {
+  AxisRectangle rectangle;
+  rectangle.heading = heading;
+  rectangle.min = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  rectangle.max = -rectangle.min;
+  const RectangleAxes axes(rectangle);
+  for (const Eigen::Vector3d& point : object.points) {
+    const Eigen::Vector2d c = axes.coordinates(point.head<2>());
+    rectangle.min = rectangle.min.cwiseMin(c);
+    rectangle.max = rectangle.max.cwiseMax(c);
+  }
+  return rectangle;
+}
+
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config) {
   std::vector<Eigen::Vector2d> xy;
   xy.reserve(object.points.size());

@@ -51,6 +51,9 @@ std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
 /// enclosing them all.
 AxisRectangle lshapeRectangle(const LevelledObject& object, const LShapeConfig& config);
 
+/// The rectangle at `heading` (rad, levelled) enclosing the levelled points seen from above.
+AxisRectangle enclosingRectangle(const LevelledObject& object, double heading);
+
 /// The extents along `rectangle`'s axes of the points of `object` at least `height` m high;
 /// the rectangle's own extents when none are there.
 Eigen::Vector2d extentAbove(const LevelledObject& object, const AxisRectangle& rectangle,

@@ -21,6 +21,7 @@ struct Cut {
   Eigen::Vector2d axis;
   double at = 0.0;
   double drop = 0.0;
+  bool gap = false;  // the valley is empty ground between two bodies, not a dip between roofs
 };
 
 // Where to cut `points` along `axis` (a unit vector on the ground), or none; none either where
@@ -86,7 +87,8 @@ std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::siz
   if (!best) {
     return std::nullopt;
   }
-  return Cut{axis, from + (static_cast<double>(*best) + 0.5) * config.bin, best_drop};
+  return Cut{axis, from + (static_cast<double>(*best) + 0.5) * config.bin, best_drop,
+             !seen[*best]};
 }
 
 void split(const ObjectView& object, std::vector<std::size_t> points,
@@ -116,14 +118,17 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     }
     // The footprint of two cars seen at a slant can make a minimum-area rectangle whose sides
     // follow neither car: then the deepest valley across any direction along which the points
-    // span more than a car's width.
+    // span more than a car's width. A footprint wider than a car but within search_min_width
+    // (a single car at a slant shows dips across its diagonals) is cut only at empty ground.
+    const bool any_valley =
+        rectangle.width > config.search_min_width || rectangle.length > config.max_length;
     if (!cut && config.search_step_deg > 0.0 &&
-        (rectangle.width > config.search_min_width || rectangle.length > config.max_length)) {
+        (any_valley || rectangle.width > config.max_width)) {
       for (double deg = 0.0; deg < 180.0; deg += config.search_step_deg) {
         const double angle = rectangle.yaw + deg * M_PI / 180.0;
         const auto found = cutAlong(object, points, heights, {std::cos(angle), std::sin(angle)},
                                     config, config.max_width);
-        if (found && (!cut || found->drop > cut->drop)) {
+        if (found && (any_valley || found->gap) && (!cut || found->drop > cut->drop)) {
           cut = found;
         }
       }

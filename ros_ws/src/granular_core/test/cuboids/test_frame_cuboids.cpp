@@ -1,6 +1,7 @@
 // fitSegmentCuboids: a frame's segments cut, fitted and judged the one way fit_cuboids and the
 // segment_cloud node do it, on a scan cast ray by ray.
 #include <algorithm>
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -103,6 +104,50 @@ TEST(FrameCuboidsTest, WithoutTheVehicleDecisionNothingIsCutOrDropped) {
   EXPECT_EQ(result.kept[0].id, 0);
   const Eigen::Vector3d& size = result.kept[0].cuboid.box.size();
   EXPECT_NEAR(std::max(size.x(), size.y()), 9.5, 0.1);  // both cars in one box
+}
+
+// A fitted car at (x, y) heading `yaw_deg`, its heading seen or left open.
+std::optional<FittedCuboid> fittedCar(double x, double y, double yaw_deg, bool heading_seen) {
+  const OrientedBox box(Eigen::Vector3d(x, y, -1.0),
+                       Eigen::Quaterniond(Eigen::AngleAxisd(yaw_deg * M_PI / 180.0,
+                                                            Eigen::Vector3d::UnitZ())),
+                       Eigen::Vector3d(4.5, 1.8, 1.5));
+  const FittedCuboid cuboid{kUnknownLabel, 1.0, box, 100, heading_seen};
+  return cuboid;
+}
+
+// A row of three cars parked side by side, headings seen along x, and a fourth at the row's
+// end whose points left its heading open and whose fit turned it across the row.
+std::vector<std::optional<FittedCuboid>> rowWithAnOpenCar() {
+  return {fittedCar(12.0, -2.6, 1.0, true), fittedCar(12.0, 0.0, -2.0, true),
+          fittedCar(12.2, 2.6, 179.0, true), fittedCar(12.0, 5.2, 88.0, false)};
+}
+
+TEST(FrameCuboidsTest, ACarWhoseHeadingWasLeftOpenTakesItsRowsHeading) {
+  const std::vector<std::optional<double>> lent =
+      lentHeadings(rowWithAnOpenCar(), {true, true, true, true}, NeighbourHeadingConfig());
+  ASSERT_EQ(lent.size(), 4u);
+  EXPECT_FALSE(lent[0] || lent[1] || lent[2]);  // seen: nothing lent
+  ASSERT_TRUE(lent[3]);
+  EXPECT_NEAR(std::abs(std::remainder(*lent[3], M_PI)), 0.0, 2.5 * M_PI / 180.0);
+}
+
+TEST(FrameCuboidsTest, NoHeadingIsLentWithoutTwoNeighboursThatAgree) {
+  NeighbourHeadingConfig config;
+  std::vector<std::optional<FittedCuboid>> cars = rowWithAnOpenCar();
+  // One seen neighbour within the radius: the nearest alone may be a merged pair.
+  config.radius = 3.0;
+  EXPECT_FALSE(lentHeadings(cars, {true, true, true, true}, config)[3]);
+  // Two of three within the radius are not vehicles.
+  EXPECT_FALSE(lentHeadings(cars, {false, true, false, true}, NeighbourHeadingConfig())[3]);
+  // The neighbours disagree: two along the row, two across it.
+  cars.push_back(fittedCar(9.0, 4.0, 90.0, true));
+  cars.push_back(fittedCar(9.0, 7.0, 92.0, true));
+  EXPECT_FALSE(lentHeadings(cars, std::vector<bool>(6, true), NeighbourHeadingConfig())[3]);
+  // A fit within min_turn_deg of its row's heading keeps its own.
+  cars = rowWithAnOpenCar();
+  cars[3] = fittedCar(12.0, 5.2, 15.0, false);
+  EXPECT_FALSE(lentHeadings(cars, {true, true, true, true}, NeighbourHeadingConfig())[3]);
 }
 
 TEST(FrameCuboidsTest, ObjectsWithoutACuboidAreCountedNotKept) {

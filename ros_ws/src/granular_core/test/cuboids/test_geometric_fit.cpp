@@ -109,6 +109,7 @@ TEST(GeometricFitTest, AnLShapeSeenFromEachOfItsCornersGivesTheBox) {
     EXPECT_NEAR(fitted->box.size().z(), 1.5, 1e-9) << "corner " << corner;
     EXPECT_EQ(fitted->label, kUnknownLabel);
     EXPECT_EQ(fitted->points, seen.size());
+    EXPECT_TRUE(fitted->heading_seen) << "corner " << corner;
   }
 }
 
@@ -412,6 +413,36 @@ TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {
     }
   }
   expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
+}
+
+TEST(GeometricFitTest, AHeadingLentByTheNeighboursTurnsACarWhosePointsLeftItOpen) {
+  const GroundPlane ground = road();
+  StandingBox car;
+  car.centre = {14.0, 0.3};
+  car.yaw = 1.0 * kDeg;
+  // The rear face and the roof 1.7 m deep: as deep as the car is wide, either way may be long.
+  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
+  const Eigen::Rotation2Dd turn(car.yaw);
+  for (double depth = 0.0; depth <= 1.7; depth += 0.05) {
+    for (double across = -0.85; across <= 0.85; across += 0.05) {
+      const Eigen::Vector2d p = car.centre + turn * Eigen::Vector2d(-2.25 + depth, across);
+      seen.emplace_back(p.x(), p.y(), 1.5);
+    }
+  }
+  const GeometricCuboidFitter fitter(carPrior());
+  ObjectView object = view(seen, ground);
+  const std::optional<FittedCuboid> own = fitter.fit(object);
+  ASSERT_TRUE(own);
+  EXPECT_FALSE(own->heading_seen);
+  EXPECT_LT(headingError(own->box, ground, car.yaw), 0.5);
+
+  object.heading = car.yaw + M_PI / 2;
+  const std::optional<FittedCuboid> lent = fitter.fit(object);
+  ASSERT_TRUE(lent);
+  EXPECT_FALSE(lent->heading_seen);
+  EXPECT_LT(headingError(lent->box, ground, car.yaw + M_PI / 2), 0.5);
+  EXPECT_NEAR(lent->box.size().x(), 4.5, 0.02);
+  EXPECT_NEAR(lent->box.size().y(), 1.8, 0.02);
 }
 
 TEST(GeometricFitTest, AFarTruckSeenEndOnBetweenSparseColumnsIsLongAlongTheLineOfSight) {

@@ -97,13 +97,11 @@ TEST(VehicleSplitTest, CarsSideBySideSeenFromTheirFrontsAreCutAlongTheRow) {
   }
 }
 
-TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
-  // A segment of the simulated parking lot: an SUV's and a sedan's fronts, their lengths along
-  // y, 0.7 m apart between x = -7.25 and -6.52. Its sparse returns make a footprint whose
-  // minimum-area rectangle is turned 25 degrees off both cars: across neither of its sides do
-  // their profiles part, across the gap's own direction they do.
-  std::ifstream file(std::string(GRANULAR_CORE_TEST_DATA) + "/parking_lot_two_fronts.xyz");
-  ASSERT_TRUE(file) << "test data missing";
+// The returns of a segment of the simulated parking lot in test/data (x, y, height above the
+// road a line), in the sensor frame.
+std::vector<Eigen::Vector3d> parkingLotSegment(const std::string& name) {
+  std::ifstream file(std::string(GRANULAR_CORE_TEST_DATA) + "/" + name);
+  EXPECT_TRUE(file) << "test data missing: " << name;
   std::vector<Eigen::Vector3d> points;
   std::string line;
   while (std::getline(file, line)) {
@@ -113,6 +111,15 @@ TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
       points.emplace_back(x, y, height - kSensorHeight);
     }
   }
+  return points;
+}
+
+TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
+  // A segment of the simulated parking lot: an SUV's and a sedan's fronts, their lengths along
+  // y, 0.7 m apart between x = -7.25 and -6.52. Its sparse returns make a footprint whose
+  // minimum-area rectangle is turned 25 degrees off both cars: across neither of its sides do
+  // their profiles part, across the gap's own direction they do.
+  const std::vector<Eigen::Vector3d> points = parkingLotSegment("parking_lot_two_fronts.xyz");
   ASSERT_EQ(points.size(), 408u);
   VehicleSplitConfig rectangle_only;
   rectangle_only.search_step_deg = 0.0;
@@ -133,6 +140,34 @@ TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
   }
   EXPECT_EQ(suv, 1);
   EXPECT_EQ(sedan, 1);
+}
+
+TEST(VehicleSplitTest, APairNoWiderThanTwoCarsIsCutOnlyAtEmptyGroundBetweenThem) {
+  // A Jeep's front (x up to 8.01) and an SUV's side (from x = 8.5), 0.5 m apart at a slant:
+  // their footprint's minimum-area rectangle is turned 47 degrees and 2.12 m wide, narrower
+  // than search_min_width, and neither of its sides shows a valley. Across x the ground
+  // between them was seen empty.
+  const std::vector<Eigen::Vector3d> points = parkingLotSegment("parking_lot_slanted_pair.xyz");
+  ASSERT_EQ(points.size(), 273u);
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  int jeep = 0, suv = 0;
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      if (p.z() > -kSensorHeight + 0.2) {
+        low = std::min(low, p.x()), high = std::max(high, p.x());
+      }
+    }
+    jeep += high < 8.1;
+    suv += low > 8.4;
+  }
+  EXPECT_EQ(jeep, 1);
+  EXPECT_EQ(suv, 1);
+  // Across the rectangle's own sides nothing parts them.
+  VehicleSplitConfig rectangle_only;
+  rectangle_only.search_step_deg = 0.0;
+  EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
 }
 
 TEST(VehicleSplitTest, TheSpacingBetweenASparseScansColumnsIsNoGap) {

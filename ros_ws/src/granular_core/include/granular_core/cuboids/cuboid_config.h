@@ -177,7 +177,8 @@ struct VehicleSplitConfig {
   /// apart are searched (two cars seen at a slant); 0: the rectangle's sides only.
   double search_step_deg = 5.0;
   /// m: ... for a footprint wider than this (single cars seen at a slant show valleys across
-  /// their diagonals) or longer than max_length.
+  /// their diagonals) or longer than max_length; one wider than max_width but not than this is
+  /// cut there only at a run of empty bins (the ground between two bodies).
   double search_min_width = 2.3;
 
   template <class Self, class Visit>
@@ -464,6 +465,24 @@ struct config::EnumNames<CuboidMethod> {
 };
 
 /// config/cuboids.yaml: everything cuboid fitting reads.
+/// Cars parked in a row or driving in a lane stand parallel: a cuboid whose points left its
+/// length axis open (seen no longer than its class is wide: a car seen end on, or its roof over
+/// another's) takes the heading of the nearest cuboid whose points showed its length.
+struct NeighbourHeadingConfig {
+  /// m between centres: the nearest vehicle within this whose length was seen lends its
+  /// heading (a row's neighbour, or the car in front of one seen over its roof); 0: off.
+  double radius = 6.0;
+  /// deg: lent only where it turns the cuboid at least this far; smaller turns are the fit's.
+  double min_turn_deg = 20.0;
+
+  template <class Self, class Visit>
+  static void fields(Self& self, Visit& visit) {
+    using namespace config;
+    visit("radius", self.radius, nonNegative("m"));
+    visit("min_turn_deg", self.min_turn_deg, interval(0.0, 90.0, "deg"));
+  }
+};
+
 struct CuboidConfig {
   CuboidMethod method = CuboidMethod::kGeometric;
   ObjectPointsConfig points;
@@ -476,6 +495,7 @@ struct CuboidConfig {
   ClickConfig click;
   VehicleSplitConfig split;
   VehicleEvidenceConfig evidence;
+  NeighbourHeadingConfig neighbour_heading;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -490,6 +510,7 @@ struct CuboidConfig {
     visit("click", self.click);
     visit("split", self.split);
     visit("evidence", self.evidence);
+    visit("neighbour_heading", self.neighbour_heading);
   }
 };
 

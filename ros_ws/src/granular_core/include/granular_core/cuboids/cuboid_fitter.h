@@ -34,6 +34,10 @@ struct ObjectView {
   /// What the scan around the object saw empty (its frame's FreeSpace, from a sensor at the
   /// origin): the geometric fit grows no box into it. Null: nothing is known to be empty.
   const FreeSpace* free_space = nullptr;
+  /// rad about the sensor frame's z, modulo pi: the heading the object's length lies along,
+  /// where its own points leave it open (NeighbourHeadingConfig). The geometric fit takes it
+  /// instead of the L-shape's; unset: the points decide.
+  std::optional<double> heading;
 };
 
 /// A fitted cuboid.
@@ -47,6 +51,9 @@ struct FittedCuboid {
   OrientedBox box;
   /// Object points the fit used (after the height filter).
   std::size_t points = 0;
+  /// Whether the points showed the length axis (seen longer than the class is wide, or the
+  /// model fit's registration); false where the fit chose it between two open ones.
+  bool heading_seen = true;
 };
 
 /// The object of a detection among `points` (sensor frame; those in its box grown by

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,15 +49,27 @@ struct FrameCuboidsOptions {
   const VehicleEvidence* evidence = nullptr;
   /// The cutting of touching cars (CuboidConfig::split), done where `evidence` is given.
   VehicleSplitConfig split;
+  /// Headings lent by neighbours (CuboidConfig::neighbour_heading), where `evidence` is given.
+  NeighbourHeadingConfig neighbour_heading;
   /// The id of the first piece cut off an object after its first piece.
   std::int64_t first_split_id = 0;
   /// Threads fitting the objects; 0: every core.
   int threads = 0;
 };
 
+/// Per cuboid of `fitted` judged a vehicle (`vehicle`) whose heading was left open
+/// (FittedCuboid::heading_seen false), the heading (rad) its neighbours lend it: that of the
+/// vehicles whose heading was seen within config.radius of its centre, when at least two of
+/// them share it (within half config.min_turn_deg) and no more than a third do not, and it turns
+/// the cuboid at least config.min_turn_deg (modulo pi). nullopt for the others.
+std::vector<std::optional<double>> lentHeadings(
+    const std::vector<std::optional<FittedCuboid>>& fitted, const std::vector<bool>& vehicle,
+    const NeighbourHeadingConfig& config);
+
 /// Fits a cuboid to each of `objects` with `fitter`, over the threads; with a vehicle decision,
-/// each object is first cut into cars (splitVehicles) and each piece's cuboid kept only when
-/// judged a vehicle. Objects without a cuboid are dropped and counted.
+/// each object is first cut into cars (splitVehicles), a piece whose heading was left open is
+/// fitted again along the heading its neighbours lend it (lentHeadings), and each piece's
+/// cuboid is kept only when judged a vehicle. Objects without a cuboid are dropped and counted.
 FrameCuboids fitFrameObjects(const std::vector<FrameObject>& objects, const CuboidFitter& fitter,
                              const FrameCuboidsOptions& options);
 

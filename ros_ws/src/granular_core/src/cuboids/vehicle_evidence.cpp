@@ -325,15 +325,15 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
   const double face_allowance =
       std::clamp(config_.max_face_share * cues.seen_width, config_.min_face_allowance,
                  std::max(config_.min_face_allowance, config_.max_face_distance));
+  if (cues.face_distance > face_allowance) {
+    return VehicleVerdict::kNotASurface;
+  }
   const bool tall = cues.top > config_.max_car_top;
-  // A truck or bus seen end on, as tall as one: its cab or bumper may stand nearer than its
-  // box's face, and its wheels hide the road under it.
+  // A truck or bus seen end on, as tall as one: its wheels and bumper hide the road under it,
+  // and its cab may stand before its box's face.
   const bool end_on = tall && cues.top >= config_.min_long_top &&
                       cues.seen_length <= config_.end_on_max_length &&
                       cues.end_face_width >= config_.end_face_min_width;
-  if (cues.face_distance > face_allowance && !end_on) {
-    return VehicleVerdict::kNotASurface;
-  }
   if (cues.seen_length > config_.max_car_length && cues.top < config_.min_long_top) {
     return VehicleVerdict::kTooLong;
   }

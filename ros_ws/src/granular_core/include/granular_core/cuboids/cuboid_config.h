@@ -276,7 +276,8 @@ struct VehicleEvidenceConfig {
   /// nearest of them along the cuboid's length span at least end_face_min_width across it.
   /// Such an object is not refused for its clearance or the flatness of its faces (its wheels
   /// and bumper hide the road under it; a cab seen in front of its box is a face nearer than
-  /// the box's): tree crowns and bushes as tall are rounded, narrower at the top.
+  /// the box's), though its returns must still lie on a surface (max_face_distance): tree
+  /// crowns and bushes as tall are rounded, narrower at the top.
   double end_on_max_length = 3.5;   ///< m
   double end_face_band = 0.4;       ///< m below the top
   double end_face_depth = 0.2;      ///< m

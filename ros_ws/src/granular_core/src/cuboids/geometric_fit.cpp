@@ -9,8 +9,10 @@ namespace granular {
 namespace {
 
 // The prior of `classes` whose height is nearest `height`; the first on a tie. With `capped`
-// (the points were cut at `height`), the shortest of those at least `height` high and longer
-// than `length` seen, when there is one.
+// (the points were cut at `height`), or when `height` is above cut_top_above and more than
+// cap_reach lower than that prior's (the sensor's highest ring may have passed under the
+// roof), the shortest of those at least `height` high and longer than `length` seen, when
+// there is one.
 const SizePrior* choosePrior(const CuboidConfig& config, double height, bool capped,
                              double length) {
   const SizePrior* best = nullptr;
@@ -23,7 +25,8 @@ const SizePrior* choosePrior(const CuboidConfig& config, double height, bool cap
       best = &prior;
     }
   }
-  if (capped) {
+  if (capped || (height > config.geometric.cut_top_above && best != nullptr &&
+                 best->height > height + config.geometric.cap_reach)) {
     for (const std::string& name : config.geometric.classes) {
       const SizePrior& prior = config.priors.at(name);
       if (prior.height >= height &&

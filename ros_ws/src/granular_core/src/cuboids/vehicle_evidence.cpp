@@ -110,10 +110,6 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   }
   const long centre_bin = static_cast<long>(binOf(direction.x(), direction.y()));
   const long half = static_cast<long>(bins_ / 2);
-  struct Seen {
-    long bin;
-    double range, height, u, v;
-  };
   std::vector<Seen> seen;
   seen.reserve(points.size());
   double u_min = 1e9, u_max = -1e9, v_min = 1e9, v_max = -1e9;
@@ -276,7 +272,32 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     }
   }
   cues.profile_drop = middle < 0.0 || ends > 1e8 ? 0.0 : middle - ends;
+  if (tall) {
+    cues.end_face_width = endFaceWidth(seen, cues.top);
+  }
   return cues;
+}
+
+double VehicleEvidence::endFaceWidth(const std::vector<Seen>& seen, double top) const {
+  // Along the cuboid's length (u) the returns near the top; the end nearer the sensor (the
+  // origin) is the face turned to it.
+  double near_min = 1e9, near_max = -1e9;
+  for (const Seen& s : seen) {
+    if (s.height >= top - config_.end_face_band) {
+      near_min = std::min(near_min, s.u);
+      near_max = std::max(near_max, s.u);
+    }
+  }
+  const bool from_min = std::abs(near_min) <= std::abs(near_max);
+  double across_min = 1e9, across_max = -1e9;
+  for (const Seen& s : seen) {
+    const double depth = from_min ? s.u - near_min : near_max - s.u;
+    if (s.height >= top - config_.end_face_band && depth <= config_.end_face_depth) {
+      across_min = std::min(across_min, s.v);
+      across_max = std::max(across_max, s.v);
+    }
+  }
+  return across_max > across_min ? across_max - across_min : 0.0;
 }
 
 VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
@@ -308,10 +329,15 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
     return VehicleVerdict::kNotASurface;
   }
   const bool tall = cues.top > config_.max_car_top;
+  // A truck or bus seen end on, as tall as one: its wheels and bumper hide the road under it,
+  // and its cab may stand before its box's face.
+  const bool end_on = tall && cues.top >= config_.min_long_top &&
+                      cues.seen_length <= config_.end_on_max_length &&
+                      cues.end_face_width >= config_.end_face_min_width;
   if (cues.seen_length > config_.max_car_length && cues.top < config_.min_long_top) {
     return VehicleVerdict::kTooLong;
   }
-  if (tall && (cues.clear_share < config_.tall_clear_share ||
+  if (tall && !end_on && (cues.clear_share < config_.tall_clear_share ||
                cues.face_distance > config_.tall_max_face_distance)) {
     return VehicleVerdict::kTallOnTheRoad;
   }

@@ -256,7 +256,9 @@ TEST(GeometricFitTest, ATruckCutAtTheHeightCapTakesTheShortestTallEnoughPrior) {
         return u <= -3.6 + 1.6 + 1e-9 && h <= 3.0;
       });
   ObjectView object = view(seen, ground);
-  // Without the cap, the 3 m top is nearest the bus's height.
+  // Without the cap (and without taking a top under its nearest prior's as cut), the 3 m top
+  // is nearest the bus's height.
+  config.geometric.cut_top_above = 9.0;
   const std::optional<FittedCuboid> uncapped = GeometricCuboidFitter(config).fit(object);
   ASSERT_TRUE(uncapped);
   EXPECT_NEAR(uncapped->box.size().x(), 11.0, 1e-9);
@@ -292,9 +294,45 @@ TEST(GeometricFitTest, AFarTruckWhoseTopRingIsBelowTheCapStillReachesIt) {
             0.05);
   // Judged by its height alone, 2.75 m is nearest the bus's 3.1 m.
   config.geometric.cap_reach_deg = 0.0;
+  config.geometric.cut_top_above = 9.0;
   const std::optional<FittedCuboid> bus = GeometricCuboidFitter(config).fit(object);
   ASSERT_TRUE(bus);
   EXPECT_NEAR(bus->box.size().x(), 11.0, 1e-9);
+}
+
+TEST(GeometricFitTest, ATruckWhoseRoofTheHighestRingPassedUnderTakesTheShortestTallEnoughPrior) {
+  // The HDL-64E's highest ring, 2 degrees up, passes 2.74 m above the road 29 m away: a box
+  // truck's rear seen there up to 2.64 m, with no segmentation cap.
+  const GroundPlane ground = road();
+  CuboidConfig config = carTruckAndBusPriors();
+  StandingBox truck;
+  truck.centre = {32.6, 0.0};
+  truck.size = {7.2, 2.4, 3.3};
+  const std::vector<Eigen::Vector3d> seen =
+      seenFaces(truck, sensorInRoadFrame(ground), 0.05,
+                [](double, double, double h) { return h <= 2.64; });
+  const ObjectView object = view(seen, ground);
+  // Taller than a car, lower than its nearest prior (the bus's 3.1 m): it may be taller.
+  const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(fitted);
+  EXPECT_NEAR(fitted->box.size().x(), 7.2, 1e-9);
+  EXPECT_LT(centreError(fitted->box, ground, StandingBox{truck.centre, 0.0, {7.2, 2.4, 2.64}}),
+            0.05);
+  // By its height alone it is the bus.
+  config.geometric.cut_top_above = 9.0;
+  const std::optional<FittedCuboid> bus = GeometricCuboidFitter(config).fit(object);
+  ASSERT_TRUE(bus);
+  EXPECT_NEAR(bus->box.size().x(), 11.0, 1e-9);
+  // A bus seen up to its roof is no taller than its prior: it stays the bus.
+  StandingBox school_bus = truck;
+  school_bus.size = {11.0, 2.5, 3.1};
+  config.geometric.cut_top_above = 2.2;
+  const std::optional<FittedCuboid> whole = GeometricCuboidFitter(config).fit(
+      view(seenFaces(school_bus, sensorInRoadFrame(ground), 0.05,
+                     [](double, double, double) { return true; }),
+           ground));
+  ASSERT_TRUE(whole);
+  EXPECT_NEAR(whole->box.size().x(), 11.0, 1e-9);
 }
 
 TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {

@@ -128,6 +128,39 @@ TEST(VehicleEvidenceTest, TallObjectsStandingOnTheRoadAreNoVehicles) {
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
+TEST(VehicleEvidenceTest, ABoxTruckSeenEndOnIsAVehicleATreeAsTallIsNot) {
+  // A box truck 40 m straight ahead, seen from behind: its rear face 2.4 m wide up to 3.2 m,
+  // with its bumper and wheels reaching the road across it (no clearance seen under it). 40 m
+  // away the highest ring (2 degrees up) passes 3.1 m above the road, so the roof's edge shows.
+  const double road = -kSensorHeight;
+  const std::vector<Block> truck = {{{40.0, -1.2, road}, {40.3, 1.2, road + 1.0}, 0.0},
+                                    {{40.0, -1.2, road + 1.0}, {47.2, 1.2, road + 3.2}, 0.0}};
+  const Block truck_cuboid{{40.0, -1.2, road}, {47.2, 1.2, road + 3.2}, 0.0};
+  VehicleVerdict verdict;
+  VehicleCues cues = measured(scan(truck), truck_cuboid, verdict);
+  EXPECT_GE(cues.top, 2.6);
+  EXPECT_LT(cues.clear_share, 0.5);  // the clearance test alone would refuse it
+  // The rear face near the top, across the line of sight: 2.4 m less the step between
+  // returns at each end (0.2 degrees at 40 m, 0.14 m).
+  EXPECT_NEAR(cues.end_face_width, 2.4, 0.3);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+  VehicleEvidenceConfig no_end_on;
+  no_end_on.end_on_max_length = 0.0;
+  measured(scan(truck), truck_cuboid, verdict, no_end_on);
+  EXPECT_EQ(verdict, VehicleVerdict::kTallOnTheRoad) << verdictName(verdict);
+  // A conifer as tall and as wide at its foot, narrowing to 1 m at the top: no face as wide
+  // as a vehicle near its top.
+  const std::vector<Block> tree = {{{40.0, -1.2, road}, {42.4, 1.2, road + 1.6}, 0.0},
+                                   {{40.4, -0.8, road + 1.6}, {42.0, 0.8, road + 2.6}, 0.0},
+                                   {{40.7, -0.5, road + 2.6}, {41.7, 0.5, road + 3.2}, 0.0}};
+  const Block tree_cuboid{{40.0, -1.2, road}, {47.2, 1.2, road + 3.2}, 0.0};
+  cues = measured(scan(tree), tree_cuboid, verdict);
+  EXPECT_GE(cues.top, 2.6);
+  EXPECT_NEAR(cues.end_face_width, 1.0, 0.3);
+  // Not waived: its returns spread over its steps, not on one face.
+  EXPECT_EQ(verdict, VehicleVerdict::kNotASurface) << verdictName(verdict);
+}
+
 TEST(VehicleEvidenceTest, ALongHedgeBehindAParkedCarIsNoTruck) {
   // KITTI 000000's hedge line: 7 m long and 2.4 m tall, 22 m away, a parked car before it
   // hiding its foot, so that its lowest returns stand high as a truck's body would.

@@ -270,6 +270,18 @@ struct VehicleEvidenceConfig {
   double profile_min_length = 2.5;  ///< m
   double min_profile_drop = 0.0;    ///< m
   double profile_bin = 0.4;         ///< m
+  /// A truck or bus seen end on (an object at least min_long_top tall seen no longer than
+  /// end_on_max_length) shows its rear or front as a face across the line of sight, as wide as
+  /// the vehicle up to its roof: its returns within end_face_band of its top that lie within end_face_depth of the
+  /// nearest of them along the cuboid's length span at least end_face_min_width across it.
+  /// Such an object is not refused for its clearance or the flatness of its faces (its wheels
+  /// and bumper hide the road under it; a cab seen in front of its box is a face nearer than
+  /// the box's), though its returns must still lie on a surface (max_face_distance): tree
+  /// crowns and bushes as tall are rounded, narrower at the top.
+  double end_on_max_length = 3.5;   ///< m
+  double end_face_band = 0.4;       ///< m below the top
+  double end_face_depth = 0.2;      ///< m
+  double end_face_min_width = 1.6;  ///< m
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -305,6 +317,10 @@ struct VehicleEvidenceConfig {
     visit("profile_min_length", self.profile_min_length, nonNegative("m"));
     visit("min_profile_drop", self.min_profile_drop, nonNegative("m"));
     visit("profile_bin", self.profile_bin, atLeast(0.05, "m"));
+    visit("end_on_max_length", self.end_on_max_length, nonNegative("m"));
+    visit("end_face_band", self.end_face_band, positive("m"));
+    visit("end_face_depth", self.end_face_depth, nonNegative("m"));
+    visit("end_face_min_width", self.end_face_min_width, positive("m"));
   }
 };
 
@@ -334,6 +350,11 @@ struct GeometricFitConfig {
   /// 0.66 deg apart, 0.38 m at 33 m; KITTI's about 0.4 deg).
   double cap_reach = 0.1;
   double cap_reach_deg = 0.7;
+  /// m: an object taller than this (than any car) whose top is more than cap_reach lower
+  /// than the prior nearest it in height is fitted as one that reached its height cap: the sensor's highest ring may
+  /// have passed under its roof (the HDL-64E's, 2 degrees up, passes 2.7 m above the road 29 m
+  /// away, where a 3.3 m box truck then looked nearest the 3.1 m bus).
+  double cut_top_above = 2.2;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -347,6 +368,7 @@ struct GeometricFitConfig {
     visit("height_points", self.height_points, nonNegative("points"));
     visit("cap_reach", self.cap_reach, nonNegative("m"));
     visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));
+    visit("cut_top_above", self.cut_top_above, nonNegative("m"));
   }
 };
 

@@ -34,6 +34,10 @@ struct VehicleCues {
   /// m, the cuboid's shorter side: the fit grows a box only into space not seen empty, so a
   /// box narrower than a car saw the scan's rays pass behind it.
   double cuboid_width = 0.0;
+  /// m, measured for tall objects only (top above max_car_top): how wide the face across the
+  /// line of sight is near the top (VehicleEvidenceConfig::end_face_min_width), the rear or
+  /// front of a truck or bus seen end on.
+  double end_face_width = 0.0;
 };
 
 /// Why a segment is no vehicle; kVehicle when it is one.
@@ -76,7 +80,16 @@ class VehicleEvidence {
     float range;   // m, horizontal
     float height;  // m above the ground
   };
+  // An object's return: its azimuth bin about the object's direction, range, height above the
+  // road and coordinates along the cuboid's length (u) and across it (v).
+  struct Seen {
+    long bin;
+    double range, height, u, v;
+  };
   std::size_t binOf(double x, double y) const;
+  /// m: the span across the cuboid of the returns within end_face_band of `top` that lie
+  /// within end_face_depth of the nearest of them along its length (VehicleCues).
+  double endFaceWidth(const std::vector<Seen>& seen, double top) const;
 
   VehicleEvidenceConfig config_;
   GroundPlane ground_;

@@ -48,8 +48,9 @@ inline std::size_t VehicleEvidence::binOf(double x, double y) const {
   // changed which clutter the decision kept and cost the demo's tracked, named box-free
   // output 0.03 class-aware F1.
   constexpr double kFastAtan2Error = 2e-4;  // rad
-  double position = (fastAtan2(y, x) + kPi) / bin_;
-  if (std::abs(position - std::round(position)) * bin_ < kFastAtan2Error) {
+  double position = (fastAtan2(y, x) + kPi) / bin_;  // at least 0: the cast floors it
+  const double within = position - static_cast<double>(static_cast<std::size_t>(position));
+  if (std::min(within, 1.0 - within) * bin_ < kFastAtan2Error) {
     position = (std::atan2(y, x) + kPi) / bin_;
   }
   const auto bin = static_cast<std::size_t>(position);

@@ -96,7 +96,6 @@ class VehicleEvidence {
   GroundPlane ground_;
   double sensor_height_;  // m above the ground
   double bin_;            // rad
-  double first_edge_;     // rad past -pi: half the sensor's azimuth step
   std::size_t bins_;
   std::size_t min_points_, min_body_points_;  // the config's, for this sensor's step
   std::vector<std::uint32_t> first_;  // per bin, its first return in returns_ (bins_ + 1)

@@ -35,6 +35,7 @@ const char* verdictName(VehicleVerdict verdict) {
     case VehicleVerdict::kNotASurface: return "not_a_surface";
     case VehicleVerdict::kTallOnTheRoad: return "tall_on_the_road";
     case VehicleVerdict::kFlatTop: return "flat_top";
+    case VehicleVerdict::kOnePlane: return "one_plane";
     case VehicleVerdict::kTooLong: return "too_long";
   }
   return "?";
@@ -347,6 +348,10 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
   if (!tall && cues.seen_length >= config_.profile_min_length &&
       cues.profile_drop < config_.min_profile_drop) {
     return VehicleVerdict::kFlatTop;
+  }
+  if (!tall && cues.seen_length >= config_.profile_min_length &&
+      cues.seen_width < config_.min_seen_width) {
+    return VehicleVerdict::kOnePlane;
   }
   return VehicleVerdict::kVehicle;
 }

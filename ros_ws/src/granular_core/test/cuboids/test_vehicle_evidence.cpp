@@ -113,6 +113,33 @@ TEST(VehicleEvidenceTest, AWallOrAHedgeLineIsNoCar) {
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
+TEST(VehicleEvidenceTest, AWallFaceSeenBroadsideIsNoCarACarSeenSoIs) {
+  // 12 m ahead, across the line of sight, 4.5 m long: a wall 1.9 m high (above the sensor, so
+  // its top is not seen) with a pier in its middle to 2 m, so that its ends are no higher than
+  // its middle (flat_top's default), and a car (body to 1 m, cabin 0.15 m in from its flank to
+  // 1.5 m). Both within the car's cuboid, 1.8 m deep, as the fit grows it into the unseen space.
+  const double road = -kSensorHeight;
+  const std::vector<Block> wall = {{{12.0, -2.25, road}, {12.3, 2.25, road + 1.9}, 0.0},
+                                   {{12.0, -0.25, road}, {12.3, 0.25, road + 2.0}, 0.0}};
+  const Block wall_cuboid{{12.0, -2.25, road}, {13.8, 2.25, road + 2.0}, 0.0};
+  VehicleVerdict verdict;
+  VehicleCues cues = measured(scan(wall), wall_cuboid, verdict);
+  EXPECT_NEAR(cues.seen_length, 4.5, 0.1);
+  EXPECT_LT(cues.seen_width, 0.01);  // one plane
+  EXPECT_EQ(verdict, VehicleVerdict::kOnePlane) << verdictName(verdict);
+  VehicleEvidenceConfig any_plane;
+  any_plane.min_seen_width = 0.0;
+  measured(scan(wall), wall_cuboid, verdict, any_plane);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+
+  const std::vector<Block> car = {{{12.0, -2.25, road}, {13.8, 2.25, road + 1.0}, 0.0},
+                                  {{12.15, -1.1, road + 1.0}, {13.65, 1.1, road + 1.5}, 0.0}};
+  const Block car_cuboid{{12.0, -2.25, road}, {13.8, 2.25, road + 1.5}, 0.0};
+  cues = measured(scan(car), car_cuboid, verdict);
+  EXPECT_GT(cues.seen_width, 1.0);  // its bonnet, roof and boot seen from above
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+}
+
 TEST(VehicleEvidenceTest, TallObjectsStandingOnTheRoadAreNoVehicles) {
   // 25 m away, where the highest ring (2 degrees up) passes 2.6 m above the road. A wall piece
   // as tall as a bus reaches the road: no body clearance underneath.

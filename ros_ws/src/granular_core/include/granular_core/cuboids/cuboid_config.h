@@ -270,6 +270,12 @@ struct VehicleEvidenceConfig {
   double profile_min_length = 2.5;  ///< m
   double min_profile_drop = 0.0;    ///< m
   double profile_bin = 0.4;         ///< m
+  /// A car-high object (top at most max_car_top) seen along a side of profile_min_length or
+  /// more shows returns spread at least min_seen_width across that side: the sills, windows and
+  /// mirrors of a car's curved flank, its roof or an end. Returns within a thinner band are
+  /// one plane, a wall's or a fence's face (the fit still grows its cuboid to a car's width
+  /// into the unseen space behind it).
+  double min_seen_width = 0.15;     ///< m
   /// A truck or bus seen end on (an object at least min_long_top tall seen no longer than
   /// end_on_max_length) shows its rear or front as a face across the line of sight, as wide as
   /// the vehicle up to its roof: its returns within end_face_band of its top that lie within end_face_depth of the
@@ -317,6 +323,7 @@ struct VehicleEvidenceConfig {
     visit("profile_min_length", self.profile_min_length, nonNegative("m"));
     visit("min_profile_drop", self.min_profile_drop, nonNegative("m"));
     visit("profile_bin", self.profile_bin, atLeast(0.05, "m"));
+    visit("min_seen_width", self.min_seen_width, nonNegative("m"));
     visit("end_on_max_length", self.end_on_max_length, nonNegative("m"));
     visit("end_face_band", self.end_face_band, positive("m"));
     visit("end_face_depth", self.end_face_depth, nonNegative("m"));

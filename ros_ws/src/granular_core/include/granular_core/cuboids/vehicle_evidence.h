@@ -53,6 +53,7 @@ enum class VehicleVerdict : std::uint8_t {
   kNotASurface,     ///< max_face_distance: returns spread through a volume (bushes)
   kTallOnTheRoad,   ///< taller than max_car_top, standing on the road or no flat box face
   kFlatTop,         ///< a long side with a level top (walls, fences, hedges)
+  kOnePlane,        ///< a long side seen as one thin plane, car-high (a wall's face)
   kTooLong,         ///< longer than a car, lower than a truck (hedges, fences)
 };
 

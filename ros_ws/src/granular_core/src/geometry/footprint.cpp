@@ -1,6 +1,7 @@
 #include "granular_core/geometry/footprint.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -22,9 +23,54 @@ double axisAngle(double angle) {
   return angle;
 }
 
+// `points` without those strictly inside the polygon of their extremes in eight directions
+// (Akl and Toussaint): none of them is a hull corner, and a segment's footprint of thousands of
+// returns keeps a few hundred to sort.
+void dropInterior(std::vector<Eigen::Vector2d>& points) {
+  // The extremes in directions 45 degrees apart, counter-clockwise from straight down.
+  const std::array<Eigen::Vector2d, 8> directions = {
+      Eigen::Vector2d(0, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 0),
+      Eigen::Vector2d(1, 1),  Eigen::Vector2d(0, 1),  Eigen::Vector2d(-1, 1),
+      Eigen::Vector2d(-1, 0), Eigen::Vector2d(-1, -1)};
+  std::array<Eigen::Vector2d, 8> extreme;
+  std::array<double, 8> best;
+  best.fill(-std::numeric_limits<double>::infinity());
+  for (const Eigen::Vector2d& p : points) {
+    for (std::size_t d = 0; d < 8; ++d) {
+      const double reach = directions[d].dot(p);
+      if (reach > best[d]) {
+        best[d] = reach;
+        extreme[d] = p;
+      }
+    }
+  }
+  std::vector<Eigen::Vector2d> corners;
+  for (const Eigen::Vector2d& corner : extreme) {
+    if (corners.empty() || corner != corners.back()) {
+      corners.push_back(corner);
+    }
+  }
+  while (corners.size() > 1 && corners.back() == corners.front()) {
+    corners.pop_back();
+  }
+  if (corners.size() < 3) {
+    return;
+  }
+  const auto inside = [&](const Eigen::Vector2d& p) {
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+      if (cross(corners[i], corners[(i + 1) % corners.size()], p) <= 0.0) {
+        return false;
+      }
+    }
+    return true;
+  };
+  points.erase(std::remove_if(points.begin(), points.end(), inside), points.end());
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> points) {
+  dropInterior(points);
   std::sort(points.begin(), points.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
   });

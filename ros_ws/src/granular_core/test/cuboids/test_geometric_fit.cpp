@@ -397,40 +397,41 @@ TEST(GeometricFitTest, ACarSeenEndOnAmongParkedCarsIsLongWhereNoNeighbourStands)
   EXPECT_GT(headingError(unchecked->box, ground, car.yaw), 80.0);
 }
 
-TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {
-  const GroundPlane ground = road();
+// The test car 14 m ahead on a flat road, seen from behind: its rear face, and the rear window
+// and roof seen 1.7 m deep above it, as deep as the car is wide: either way may be its length.
+struct EndOnWithRoof {
+  GroundPlane ground = road();
   StandingBox car;
-  car.centre = {14.0, 0.3};
-  car.yaw = 1.0 * kDeg;
-  // From behind: the rear face, and the rear window and roof seen 1.7 m deep above it, as deep
-  // as the car is wide.
-  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
-  const Eigen::Rotation2Dd turn(car.yaw);
+  std::vector<Eigen::Vector3d> seen;
+};
+
+EndOnWithRoof carSeenEndOnWithItsRoof() {
+  EndOnWithRoof scene;
+  scene.car.centre = {14.0, 0.3};
+  scene.car.yaw = 1.0 * kDeg;
+  scene.seen = seenFaces(scene.car, sensorInRoadFrame(scene.ground), 0.05);
+  const Eigen::Rotation2Dd turn(scene.car.yaw);
   for (double depth = 0.0; depth <= 1.7; depth += 0.05) {
     for (double across = -0.85; across <= 0.85; across += 0.05) {
-      const Eigen::Vector2d p = car.centre + turn * Eigen::Vector2d(-2.25 + depth, across);
-      seen.emplace_back(p.x(), p.y(), 1.5);
+      const Eigen::Vector2d p = scene.car.centre + turn * Eigen::Vector2d(-2.25 + depth, across);
+      scene.seen.emplace_back(p.x(), p.y(), 1.5);
     }
   }
-  expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(seen, ground)), ground, car);
+  return scene;
+}
+
+TEST(GeometricFitTest, ACarSeenEndOnWithItsRoofIsLongAlongTheLineOfSight) {
+  const EndOnWithRoof scene = carSeenEndOnWithItsRoof();
+  expectTheCar(GeometricCuboidFitter(carPrior()).fit(view(scene.seen, scene.ground)),
+               scene.ground, scene.car);
 }
 
 TEST(GeometricFitTest, AHeadingLentByTheNeighboursTurnsACarWhosePointsLeftItOpen) {
-  const GroundPlane ground = road();
-  StandingBox car;
-  car.centre = {14.0, 0.3};
-  car.yaw = 1.0 * kDeg;
-  // The rear face and the roof 1.7 m deep: as deep as the car is wide, either way may be long.
-  std::vector<Eigen::Vector3d> seen = seenFaces(car, sensorInRoadFrame(ground), 0.05);
-  const Eigen::Rotation2Dd turn(car.yaw);
-  for (double depth = 0.0; depth <= 1.7; depth += 0.05) {
-    for (double across = -0.85; across <= 0.85; across += 0.05) {
-      const Eigen::Vector2d p = car.centre + turn * Eigen::Vector2d(-2.25 + depth, across);
-      seen.emplace_back(p.x(), p.y(), 1.5);
-    }
-  }
+  const EndOnWithRoof scene = carSeenEndOnWithItsRoof();
+  const GroundPlane& ground = scene.ground;
+  const StandingBox& car = scene.car;
   const GeometricCuboidFitter fitter(carPrior());
-  ObjectView object = view(seen, ground);
+  ObjectView object = view(scene.seen, ground);
   const std::optional<FittedCuboid> own = fitter.fit(object);
   ASSERT_TRUE(own);
   EXPECT_FALSE(own->heading_seen);

@@ -86,7 +86,8 @@ FrameCuboids fitFrameObjects(const std::vector<FrameObject>& objects, const Cubo
     }
   });
   if (options.evidence != nullptr && options.neighbour_heading.radius > 0.0) {
-    // A heading left open takes the nearest seen one's, as fitted above (not as lent here).
+    // A heading left open takes the one its seen neighbours share, as fitted above (not as
+    // lent here).
     std::vector<bool> vehicle(pieces.size());
     for (std::size_t i = 0; i < pieces.size(); ++i) {
       vehicle[i] = verdicts[i] == VehicleVerdict::kVehicle;

@@ -123,16 +123,22 @@ FrameCuboids fitSegmentCuboids(const Cloud& cloud, const ObjectSegmentation& seg
                                const SegmentationStageConfig& segmentation_config,
                                const CuboidConfig& config, const CuboidFitter& fitter,
                                int threads) {
-  const SegmentViews views(cloud, segmentation, segmentation_config, config.free_space);
+  // The free space and the decision need the objects method's road plane; they read the
+  // frame's returns above it from one pass over the cloud.
+  std::optional<PolarReturns> scan;
+  if (segmentation_config.method == SegmentationMethod::kObjects) {
+    scan.emplace(cloud, segmentation.ground.plane);
+  }
+  const SegmentViews views =
+      scan ? SegmentViews(cloud, segmentation, segmentation_config, config.free_space, *scan)
+           : SegmentViews(cloud, segmentation, segmentation_config, config.free_space);
   std::vector<FrameObject> objects(segmentation.segments.size());
   for (std::size_t s = 0; s < objects.size(); ++s) {
     objects[s] = {static_cast<std::int64_t>(s), views.view(s)};
   }
-  // The decision needs the objects method's road plane.
   std::optional<VehicleEvidence> evidence;
-  if (config.evidence.enabled && segmentation_config.method == SegmentationMethod::kObjects) {
-    evidence.emplace(cloud, segmentation.ground.plane, config.evidence,
-                     segmentation_config.objects.azimuth_step_deg);
+  if (config.evidence.enabled && scan) {
+    evidence.emplace(*scan, config.evidence, segmentation_config.objects.azimuth_step_deg);
   }
   FrameCuboidsOptions options;
   options.evidence = evidence ? &*evidence : nullptr;

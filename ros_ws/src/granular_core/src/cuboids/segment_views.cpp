@@ -12,6 +12,16 @@ SegmentViews::SegmentViews(const Cloud& cloud, const ObjectSegmentation& segment
   }
 }
 
+SegmentViews::SegmentViews(const Cloud& cloud, const ObjectSegmentation& segmentation,
+                           const SegmentationStageConfig& config,
+                           const FreeSpaceConfig& free_space, const PolarReturns& scan)
+    : cloud_(cloud), segmentation_(segmentation) {
+  if (config.method == SegmentationMethod::kObjects) {
+    height_cap_ = config.objects.max_height;
+    free_space_.emplace(scan, free_space);
+  }
+}
+
 ObjectView SegmentViews::view(std::size_t segment) const {
   ObjectView view;
   const std::vector<std::size_t>& indices = segmentation_.segments.at(segment).indices;

@@ -48,8 +48,12 @@ inline std::size_t VehicleEvidence::binOf(double x, double y) const {
   // its step, on the edges, where other rounding (fastAtan2 alone, or edges half a step off)
   // changed which clutter the decision kept and cost the demo's tracked, named box-free
   // output 0.03 class-aware F1.
+  return binAt(fastAtan2(y, x) + kPi, x, y);
+}
+
+inline std::size_t VehicleEvidence::binAt(double azimuth, double x, double y) const {
   constexpr double kFastAtan2Error = 2e-4;  // rad
-  double position = (fastAtan2(y, x) + kPi) / bin_;  // at least 0: the cast floors it
+  double position = azimuth / bin_;  // at least 0: the cast floors it
   const double within = position - static_cast<double>(static_cast<std::size_t>(position));
   if (std::min(within, 1.0 - within) * bin_ < kFastAtan2Error) {
     position = (std::atan2(y, x) + kPi) / bin_;
@@ -60,9 +64,13 @@ inline std::size_t VehicleEvidence::binOf(double x, double y) const {
 
 VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
                                  const VehicleEvidenceConfig& config, double azimuth_step_deg)
+    : VehicleEvidence(PolarReturns(cloud, ground), config, azimuth_step_deg) {}
+
+VehicleEvidence::VehicleEvidence(const PolarReturns& scan, const VehicleEvidenceConfig& config,
+                                 double azimuth_step_deg)
     : config_(config),
-      ground_(ground),
-      sensor_height_(ground.heightOf(Eigen::Vector3d::Zero())) {
+      ground_(scan.ground()),
+      sensor_height_(ground_.heightOf(Eigen::Vector3d::Zero())) {
   const double bin_deg = std::max(config.bin_deg, 2.0 * azimuth_step_deg);
   // A ring gives an object one return per azimuth step across it: a sparser sensor gives
   // proportionally fewer.
@@ -71,31 +79,22 @@ VehicleEvidence::VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
   min_body_points_ = static_cast<std::size_t>(std::ceil(config.min_body_points * density));
   bins_ = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(360.0 / bin_deg)));
   bin_ = 2.0 * kPi / static_cast<double>(bins_);
-  // A counting sort of the finite returns by bin.
-  std::vector<std::uint32_t> bin_of(cloud.size(), 0);
+  // A counting sort of the returns by bin.
+  const std::vector<PolarReturns::Return>& scanned = scan.returns();
+  std::vector<std::uint32_t> bin_of(scanned.size());
   first_.assign(bins_ + 1, 0);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const PointXYZIT& p = cloud[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-      bin_of[i] = static_cast<std::uint32_t>(bins_);
-      continue;
-    }
-    bin_of[i] = static_cast<std::uint32_t>(binOf(p.x, p.y));
+  for (std::size_t i = 0; i < scanned.size(); ++i) {
+    bin_of[i] = static_cast<std::uint32_t>(binAt(scanned[i].azimuth, scanned[i].x, scanned[i].y));
     ++first_[bin_of[i] + 1];
   }
   for (std::size_t b = 0; b < bins_; ++b) {
     first_[b + 1] += first_[b];
   }
-  returns_.resize(first_[bins_]);
+  returns_.resize(scanned.size());
   std::vector<std::uint32_t> next(first_.begin(), first_.end() - 1);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    if (bin_of[i] == bins_) {
-      continue;
-    }
-    const PointXYZIT& p = cloud[i];
-    const Eigen::Vector3d point(p.x, p.y, p.z);
-    returns_[next[bin_of[i]]++] = {static_cast<float>(point.head<2>().norm()),
-                                   static_cast<float>(ground_.heightOf(point))};
+  for (std::size_t i = 0; i < scanned.size(); ++i) {
+    returns_[next[bin_of[i]]++] = {static_cast<float>(scanned[i].range),
+                                   static_cast<float>(scanned[i].height)};
   }
 }
 

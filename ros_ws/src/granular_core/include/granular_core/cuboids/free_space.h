@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "granular_core/cuboids/cuboid_config.h"
+#include "granular_core/cuboids/polar_returns.h"
 #include "granular_core/ground/ground.h"
 #include "granular_core/point_types.h"
 
@@ -23,6 +24,8 @@ namespace granular {
 class FreeSpace {
  public:
   FreeSpace(const Cloud& cloud, const GroundPlane& ground, const FreeSpaceConfig& config);
+  /// The same from the frame's returns about the sensor, above their road plane.
+  FreeSpace(const PolarReturns& scan, const FreeSpaceConfig& config);
 
   /// Whether rays were seen to pass over `point` (sensor frame; its x, y) within the body band
   /// with nothing nearer in the band: the place is empty at body height. False where the scan
@@ -34,8 +37,9 @@ class FreeSpace {
   bool seenOccupied(const Eigen::Vector3d& point) const;
 
  private:
-  // The azimuth bin of x, y (the sensor frame's).
+  // The azimuth bin of x, y (the sensor frame's), and of an azimuth in [0, 2 pi] from -pi.
   std::size_t binOf(double x, double y) const;
+  std::size_t binAt(double azimuth) const;
 
   double bin_;  // rad
   std::vector<float> blocked_;  // m, nearest return in the band

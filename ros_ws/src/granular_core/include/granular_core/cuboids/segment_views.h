@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "granular_core/cuboids/cuboid_fitter.h"
+#include "granular_core/cuboids/polar_returns.h"
 #include "granular_core/segmentation/object_segmentation.h"
 
 namespace granular {
@@ -17,6 +18,11 @@ class SegmentViews {
  public:
   SegmentViews(const Cloud& cloud, const ObjectSegmentation& segmentation,
                const SegmentationStageConfig& config, const FreeSpaceConfig& free_space);
+  /// The same with the frame's returns about the sensor already measured (`scan`, above
+  /// segmentation.ground.plane), which the FreeSpace reads instead of the cloud.
+  SegmentViews(const Cloud& cloud, const ObjectSegmentation& segmentation,
+               const SegmentationStageConfig& config, const FreeSpaceConfig& free_space,
+               const PolarReturns& scan);
   /// The view of segmentation.segments[segment].
   ObjectView view(std::size_t segment) const;
 

@@ -8,6 +8,7 @@
 
 #include "granular_core/cuboids/cuboid_config.h"
 #include "granular_core/cuboids/cuboid_fitter.h"
+#include "granular_core/cuboids/polar_returns.h"
 #include "granular_core/ground/ground.h"
 #include "granular_core/point_types.h"
 
@@ -69,6 +70,10 @@ class VehicleEvidence {
   /// CuboidConfig.
   VehicleEvidence(const Cloud& cloud, const GroundPlane& ground,
                   const VehicleEvidenceConfig& config, double azimuth_step_deg);
+  /// The same from the frame's returns about the sensor, above their road plane (the frame's
+  /// FreeSpace reads them too).
+  VehicleEvidence(const PolarReturns& scan, const VehicleEvidenceConfig& config,
+                  double azimuth_step_deg);
 
   /// The cues of an object (its points in the sensor frame) and the cuboid fitted to it.
   VehicleCues measure(const std::vector<Eigen::Vector3d>& points, const OrientedBox& cuboid) const;
@@ -88,6 +93,8 @@ class VehicleEvidence {
     double range, height, u, v;
   };
   std::size_t binOf(double x, double y) const;
+  // The bin of a return at x, y whose fastAtan2 azimuth from -pi is `azimuth`.
+  std::size_t binAt(double azimuth, double x, double y) const;
   /// m: the span across the cuboid of the returns within end_face_band of `top` that lie
   /// within end_face_depth of the nearest of them along its length (VehicleCues).
   double endFaceWidth(const std::vector<Seen>& seen, double top) const;

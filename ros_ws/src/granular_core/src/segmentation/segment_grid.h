@@ -31,9 +31,11 @@ struct PlaneGrid {
   std::size_t cells() const { return static_cast<std::size_t>(side) * side; }
   // The cell of (x, y), or nullopt outside the grid.
   std::optional<std::size_t> cellOf(double x, double y) const {
-    const double col = std::floor((x + half) / size);
-    const double row = std::floor((y + half) / size);
-    if (col < 0 || row < 0 || col >= side || row >= side) {
+    // The cast floors what the test lets through (none negative): std::floor was two
+    // rounding sequences per candidate return of a frame.
+    const double col = (x + half) / size;
+    const double row = (y + half) / size;
+    if (!(col >= 0.0 && row >= 0.0 && col < side && row < side)) {
       return std::nullopt;
     }
     return static_cast<std::size_t>(row) * side + static_cast<std::size_t>(col);

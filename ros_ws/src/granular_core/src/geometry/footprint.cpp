@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace granular {
 namespace {
@@ -27,27 +28,29 @@ double axisAngle(double angle) {
 // (Akl and Toussaint): none of them is a hull corner, and a segment's footprint of thousands of
 // returns keeps a few hundred to sort.
 void dropInterior(std::vector<Eigen::Vector2d>& points) {
-  // The extremes in directions 45 degrees apart, counter-clockwise from straight down.
-  const std::array<Eigen::Vector2d, 8> directions = {
-      Eigen::Vector2d(0, -1), Eigen::Vector2d(1, -1), Eigen::Vector2d(1, 0),
-      Eigen::Vector2d(1, 1),  Eigen::Vector2d(0, 1),  Eigen::Vector2d(-1, 1),
-      Eigen::Vector2d(-1, 0), Eigen::Vector2d(-1, -1)};
-  std::array<Eigen::Vector2d, 8> extreme;
+  // The extremes in directions 45 degrees apart, counter-clockwise from straight down: (0, -1),
+  // (1, -1), (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1). Their dot products with a point
+  // are sums and differences of its coordinates, exactly.
+  if (points.size() < 3) {
+    return;
+  }
+  std::array<std::size_t, 8> extreme{};
   std::array<double, 8> best;
   best.fill(-std::numeric_limits<double>::infinity());
-  for (const Eigen::Vector2d& p : points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double x = points[i].x(), y = points[i].y();
+    const std::array<double, 8> reach = {-y, x - y, x, x + y, y, y - x, -x, -x - y};
     for (std::size_t d = 0; d < 8; ++d) {
-      const double reach = directions[d].dot(p);
-      if (reach > best[d]) {
-        best[d] = reach;
-        extreme[d] = p;
+      if (reach[d] > best[d]) {
+        best[d] = reach[d];
+        extreme[d] = i;
       }
     }
   }
   std::vector<Eigen::Vector2d> corners;
-  for (const Eigen::Vector2d& corner : extreme) {
-    if (corners.empty() || corner != corners.back()) {
-      corners.push_back(corner);
+  for (const std::size_t index : extreme) {
+    if (corners.empty() || points[index] != corners.back()) {
+      corners.push_back(points[index]);
     }
   }
   while (corners.size() > 1 && corners.back() == corners.front()) {
@@ -56,9 +59,15 @@ void dropInterior(std::vector<Eigen::Vector2d>& points) {
   if (corners.size() < 3) {
     return;
   }
+  // Each side of the polygon: its first corner and its direction to the next.
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> sides;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    sides.emplace_back(corners[i], corners[(i + 1) % corners.size()] - corners[i]);
+  }
   const auto inside = [&](const Eigen::Vector2d& p) {
-    for (std::size_t i = 0; i < corners.size(); ++i) {
-      if (cross(corners[i], corners[(i + 1) % corners.size()], p) <= 0.0) {
+    for (const auto& [from, along] : sides) {
+      // cross(from, from + along, p), as cross() computes it.
+      if (along.x() * (p.y() - from.y()) - along.y() * (p.x() - from.x()) <= 0.0) {
         return false;
       }
     }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "granular_core/geometry/fast_atan2.h"
 
@@ -116,6 +115,7 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   std::vector<Seen> seen;
   seen.reserve(points.size());
   double u_min = 1e9, u_max = -1e9, v_min = 1e9, v_max = -1e9;
+  long bin_min = half, bin_max = -half;
   for (const Eigen::Vector3d& p : points) {
     const double height = ground_.heightOf(p);
     if (height < config_.road_height) {
@@ -128,6 +128,8 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     const double u = p.x() * cos_yaw + p.y() * sin_yaw;
     const double v = -p.x() * sin_yaw + p.y() * cos_yaw;
     seen.push_back({bin, p.head<2>().norm(), height, u, v});
+    bin_min = std::min(bin_min, bin);
+    bin_max = std::max(bin_max, bin);
     ++cues.points;
     cues.top = std::max(cues.top, height);
     u_min = std::min(u_min, u), u_max = std::max(u_max, u);
@@ -150,23 +152,23 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   const double band_min = tall ? config_.tall_body_min : config_.body_min;
   const double band_max = tall ? config_.tall_body_max : config_.body_max;
   std::vector<double> face_distances;
+  // Per bin from bin_min to bin_max, its body returns' span of range (none: body 0).
   struct Span {
     double near = 1e9, far = -1e9;
     std::size_t body = 0;
   };
-  std::map<long, Span> body_bins;
-  long bin_min = half, bin_max = -half;
+  std::vector<Span> spans(static_cast<std::size_t>(bin_max - bin_min + 1));
+  std::size_t body_bins = 0;
   double nearest = 1e9;
   for (const Seen& s : seen) {
-    bin_min = std::min(bin_min, s.bin);
-    bin_max = std::max(bin_max, s.bin);
     nearest = std::min(nearest, s.range);
     if (s.height < band_min || s.height > band_max) {
       continue;
     }
     ++cues.body_points;
     face_distances.push_back(std::min(std::abs(s.u - near_u), std::abs(s.v - near_v)));
-    Span& span = body_bins[s.bin];
+    Span& span = spans[static_cast<std::size_t>(s.bin - bin_min)];
+    body_bins += span.body == 0 ? 1 : 0;
     span.near = std::min(span.near, s.range);
     span.far = std::max(span.far, s.range);
     ++span.body;
@@ -181,7 +183,7 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   // there (a car parked behind another shows only its roof).
   std::size_t bins_seen = 0;
   for (long bin = bin_min; bin <= bin_max; ++bin) {
-    if (body_bins.count(bin) > 0) {
+    if (spans[static_cast<std::size_t>(bin - bin_min)].body > 0) {
       ++bins_seen;
       continue;
     }
@@ -201,16 +203,17 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     }
   }
   cues.fill = bins_seen == 0 ? 1.0
-                             : static_cast<double>(body_bins.size()) /
+                             : static_cast<double>(body_bins) /
                                    static_cast<double>(bins_seen);
 
   // Rays through the body band of the inner bins: those that returned from behind the object,
   // having stayed in the band from its near side to its far side (not those that dipped under
   // a body standing clear of the road).
   std::size_t passed = 0, blocked = 0;
-  for (const auto& [bin, span] : body_bins) {
-    if (bin == bin_min || bin == bin_max) {
-      continue;  // an edge bin holds rays beside the object too
+  for (long bin = bin_min + 1; bin < bin_max; ++bin) {  // an edge bin holds rays beside it too
+    const Span& span = spans[static_cast<std::size_t>(bin - bin_min)];
+    if (span.body == 0) {
+      continue;
     }
     blocked += span.body;
     const std::size_t frame_bin = frameBin(bin);

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <tuple>
 
 namespace granular {
 namespace cuboids {
@@ -85,20 +84,36 @@ std::optional<LevelledObject> levelObject(const ObjectView& object,
 
 std::vector<Eigen::Vector2d> outline(const std::vector<Eigen::Vector2d>& points,
                                      const Eigen::Vector2d& sensor, double step_deg) {
-  // (bearing bin, squared range, index), sorted: each bin's first is its nearest point.
-  std::vector<std::tuple<std::int64_t, double, std::size_t>> bins;
-  bins.reserve(points.size());
+  if (points.empty()) {
+    return {};
+  }
+  // Each point's bearing bin and squared range; then per bin, from the least to the greatest,
+  // its nearest point (the first on a tie). The bins span at most a turn, so a table over
+  // them replaces sorting the points.
   const double step = step_deg * M_PI / 180.0;
+  std::vector<std::int64_t> bin_of(points.size());
+  std::vector<double> range_sq(points.size());
+  std::int64_t least = std::numeric_limits<std::int64_t>::max();
+  std::int64_t greatest = std::numeric_limits<std::int64_t>::min();
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2d ray = points[i] - sensor;
-    bins.emplace_back(static_cast<std::int64_t>(std::floor(std::atan2(ray.y(), ray.x()) / step)),
-                      ray.squaredNorm(), i);
+    bin_of[i] = static_cast<std::int64_t>(std::floor(std::atan2(ray.y(), ray.x()) / step));
+    range_sq[i] = ray.squaredNorm();
+    least = std::min(least, bin_of[i]);
+    greatest = std::max(greatest, bin_of[i]);
   }
-  std::sort(bins.begin(), bins.end());
+  constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> nearest_in(static_cast<std::size_t>(greatest - least + 1), kNone);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::size_t& best = nearest_in[static_cast<std::size_t>(bin_of[i] - least)];
+    if (best == kNone || range_sq[i] < range_sq[best]) {
+      best = i;
+    }
+  }
   std::vector<Eigen::Vector2d> nearest;
-  for (std::size_t k = 0; k < bins.size(); ++k) {
-    if (k == 0 || std::get<0>(bins[k]) != std::get<0>(bins[k - 1])) {
-      nearest.push_back(points[std::get<2>(bins[k])]);
+  for (const std::size_t index : nearest_in) {
+    if (index != kNone) {
+      nearest.push_back(points[index]);
     }
   }
   return nearest;

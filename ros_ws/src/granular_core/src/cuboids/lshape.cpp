@@ -24,8 +24,10 @@ class Scorer {
   Scorer(const std::vector<Eigen::Vector2d>& points, const LShapeConfig& config)
       : points_(points), config_(config), c1_(points.size()), c2_(points.size()) {}
 
-  double operator()(double theta) {
-    const double cos_t = std::cos(theta), sin_t = std::sin(theta);
+  double operator()(double theta) { return (*this)(std::cos(theta), std::sin(theta)); }
+
+  // The score of the direction whose cosine and sine these are.
+  double operator()(double cos_t, double sin_t) {
     double min1 = std::numeric_limits<double>::infinity(), max1 = -min1;
     double min2 = min1, max2 = -min1;
     for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -87,6 +89,23 @@ class Scorer {
   const LShapeConfig& config_;
   std::vector<double> c1_, c2_;
 };
+
+// The cosines and sines of k * step for k below `steps`: every object's coarse search turns
+// through the same directions, and computing them was a third of the search's instructions.
+// Per thread, for the step last asked.
+const std::vector<std::pair<double, double>>& coarseDirections(double step, int steps) {
+  thread_local std::vector<std::pair<double, double>> directions;
+  thread_local double directions_step = 0.0;
+  if (directions_step != step || directions.size() != static_cast<std::size_t>(steps)) {
+    directions.clear();
+    for (int k = 0; k < steps; ++k) {
+      const double theta = k * step;
+      directions.emplace_back(std::cos(theta), std::sin(theta));
+    }
+    directions_step = step;
+  }
+  return directions;
+}
 
 }  // namespace
 
@@ -160,8 +179,11 @@ AxisRectangle fitLShape(const std::vector<Eigen::Vector2d>& points, const LShape
   const double fine = config.fine_step_deg * M_PI / 180.0;
   double best = 0.0, best_score = -std::numeric_limits<double>::infinity();
   const int coarse_steps = static_cast<int>(std::ceil(kQuarterTurn / coarse - 1e-9));
+  const std::vector<std::pair<double, double>>& directions =
+      coarseDirections(coarse, coarse_steps);
   for (int k = 0; k < coarse_steps; ++k) {
-    const double value = score(k * coarse);
+    const auto& [cos_t, sin_t] = directions[static_cast<std::size_t>(k)];
+    const double value = score(cos_t, sin_t);
     if (value > best_score) {
       best_score = value;
       best = k * coarse;

@@ -42,8 +42,11 @@ FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,
                          std::vector<std::int32_t>& slot, CellBits& held) {
   const std::vector<float>& heights = ground.heights;
   const std::vector<bool>& on_ground = ground.ground;
+  // Room for every return: growing them cost a frame a megabyte of copying.
   std::vector<std::size_t> candidates;
+  candidates.reserve(cloud.size());
   std::vector<std::uint32_t> candidate_cell;
+  candidate_cell.reserve(cloud.size());
   std::vector<std::size_t> overhangs;  // higher than candidates, up to 8 m
   const double min_range_sq = config.min_range * config.min_range;
   const double max_range_sq = config.max_range * config.max_range;
@@ -93,7 +96,7 @@ FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,
     for (std::uint32_t c = frame.start[k]; c < frame.start[k + 1]; ++c) {
       frame.top_of_cell[k] = std::max(frame.top_of_cell[k], heights[frame.by_cell[c]]);
     }
-    frame.low[k] = frame.top_of_cell[k] < config.link_min_top;
+    frame.low[k] = frame.top_of_cell[k] < config.link_min_top ? 1 : 0;
   }
   for (const std::size_t i : overhangs) {
     if (const auto cell = grid.cellOf(cloud[i].x, cloud[i].y); cell && slot[*cell] >= 0) {

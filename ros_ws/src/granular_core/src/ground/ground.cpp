@@ -47,9 +47,11 @@ GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config) {
     estimate.heights.assign(cloud.size(), std::nanf(""));
     for (std::size_t i = 0; i < cloud.size(); ++i) {
       const PointXYZIT& point = cloud[i];
-      if (std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z)) {
-        estimate.heights[i] = static_cast<float>(
-            estimate.plane.heightOf(Eigen::Vector3d(point.x, point.y, point.z)));
+      const double height = estimate.plane.heightOf(Eigen::Vector3d(point.x, point.y, point.z));
+      // Finite exactly where x, y and z are (the plane is; 0 times infinity is NaN; no float
+      // overflows it): one test for three.
+      if (std::isfinite(height)) {
+        estimate.heights[i] = static_cast<float>(height);
       }
     }
   }

@@ -58,10 +58,6 @@ struct SeedRegion {
   }
 };
 
-bool finite(const PointXYZIT& point) {
-  return std::isfinite(point.x) && std::isfinite(point.y) && std::isfinite(point.z);
-}
-
 // The plane (normal up) through the points' least-squares fit: the eigenvector of their
 // covariance with the smallest eigenvalue.
 bool fitPlane(const std::vector<Eigen::Vector3d>& points, GroundPlane& plane) {
@@ -104,7 +100,9 @@ GroundPlane estimateGroundPlane(const Cloud& cloud, const GroundPlaneConfig& con
   const double highest_seed = -config.sensor_height + config.seed_band;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const PointXYZIT& point = cloud[i];
-    if (!finite(point) || !region.contains(point)) {
+    // The region holds no point with a non-finite x or y (its range test fails on them), so
+    // only z is left to test, and only in it: most returns lie outside it.
+    if (!region.contains(point) || !std::isfinite(point.z)) {
       continue;
     }
     region_points.emplace_back(point.x, point.y, point.z);

@@ -249,7 +249,7 @@ struct LinkCells {
   const std::vector<Eigen::Vector2d>& centre;
   const std::vector<double>& range;
   const std::vector<int>& link;
-  const std::vector<bool>& low;
+  const std::vector<std::uint8_t>& low;
   double reach_per_m;   ///< cells of reach per metre of range
   double across_per_m;  ///< link_azimuth_steps returns' spacing per metre of range
   std::vector<std::int32_t>& slot;
@@ -286,7 +286,7 @@ void joinNeighbours(const LinkCells& frame, const std::vector<std::uint32_t>& ce
   const std::vector<std::uint32_t>& occupied = frame.occupied;
   const std::vector<double>& range = frame.range;
   const std::vector<int>& link = frame.link;
-  const std::vector<bool>& low = frame.low;
+  const std::vector<std::uint8_t>& low = frame.low;
   const double reach_per_m = frame.reach_per_m;
   CellBits& held = frame.held;
   std::vector<std::int32_t> attach(cells.size(), -1);  // the place a low cell joins
@@ -298,28 +298,34 @@ void joinNeighbours(const LinkCells& frame, const std::vector<std::uint32_t>& ce
       attach[low_place] = place;
     }
   };
+  // Held in locals: the joins write memory the compiler cannot tell apart from the config's.
+  const int side = grid.side;
+  const int link_cells = config.link_cells;
+  const std::int32_t* const slot = frame.slot.data();
   for (std::size_t j = 0; j < cells.size(); ++j) {
     const std::uint32_t k = cells[j];
-    const int row = static_cast<int>(occupied[k] / grid.side);
-    const int col = static_cast<int>(occupied[k] % grid.side);
+    const int row = static_cast<int>(occupied[k] / side);
+    const int col = static_cast<int>(occupied[k] % side);
+    const bool k_low = low[k] != 0;
     // A cell l scanned from here lies at most (link[k] + 1) cells' diagonals farther away.
     const double farthest = range[k] + (link[k] + 1) * config.cell_size * M_SQRT2 + 1e-6;
     const int window =
-        std::max(config.link_cells, static_cast<int>(std::ceil(reach_per_m * farthest)));
-    for (int r = row; r <= std::min(row + window, grid.side - 1); ++r) {
+        std::max(link_cells, static_cast<int>(std::ceil(reach_per_m * farthest)));
+    const int last_col = std::min(col + window, side - 1);
+    for (int r = row; r <= std::min(row + window, side - 1); ++r) {
       const int first_col = r == row ? col + 1 : std::max(col - window, 0);
-      const std::int32_t* slots = frame.slot.data() + static_cast<std::size_t>(r) * grid.side;
-      held.forEachSet(r, first_col, std::min(col + window, grid.side - 1), [&](int c) {
+      const std::int32_t* slots = slot + static_cast<std::size_t>(r) * side;
+      held.forEachSet(r, first_col, last_col, [&](int c) {
         const std::int32_t other = slots[c];
         const std::uint32_t l = cells[static_cast<std::size_t>(other)];
         const int apart = std::max(r - row, std::abs(c - col));
-        if (apart <= config.link_cells ||
+        if (apart <= link_cells ||
             (apart <= std::max(link[k], link[l]) && closeAcross(frame, k, l))) {
-          if (!low[k] && !low[l]) {
+          if (!k_low && !low[l]) {
             components.join(static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(other));
           } else if (!low[l]) {
             offer(j, other, apart);
-          } else if (!low[k]) {
+          } else if (!k_low) {
             offer(static_cast<std::size_t>(other), static_cast<std::int32_t>(j), apart);
           } else {
             low_pairs.emplace_back(static_cast<std::uint32_t>(j),
@@ -355,7 +361,7 @@ std::optional<PeeledWall> peelWall(const LinkCells& frame, const std::vector<std
   const std::vector<std::uint32_t>& occupied = frame.occupied;
   const std::vector<Eigen::Vector2d>& centre = frame.centre;
   const std::vector<int>& link = frame.link;
-  const std::vector<bool>& low = frame.low;
+  const std::vector<std::uint8_t>& low = frame.low;
   CellBits& held = frame.held;
   std::vector<Eigen::Vector2d> centres;
   centres.reserve(cells.size());

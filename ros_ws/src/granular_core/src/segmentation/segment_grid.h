@@ -102,8 +102,9 @@ struct FrameGrid {
   /// m above the ground: the highest return over cell k, its candidates' and the overhangs'
   /// above it (0 when all lie lower).
   std::vector<float> top_of_cell;
-  /// Whether all of cell k's candidates lie below link_min_top.
-  std::vector<bool> low;
+  /// 1 where all of cell k's candidates lie below link_min_top, else 0 (a byte, not a
+  /// vector<bool>: the links read it for every pair of cells they look at).
+  std::vector<std::uint8_t> low;
   std::vector<Eigen::Vector2d> centre;  ///< of cell k's grid cell
   std::vector<double> range;            ///< m, of that centre from the sensor
 };

@@ -117,7 +117,7 @@ TEST_F(FrameGridTest, CandidatesComeByCellInRowMajorOrderWithTheirCellsHighestRe
   EXPECT_EQ(frame.by_cell, (std::vector<std::size_t>{11, 1, 9, 0, 2}));  // cloud order
   // Cell (10, 15)'s top is the overhang's 5 m; point 4 at 9 m counts nowhere.
   EXPECT_EQ(frame.top_of_cell, (std::vector<float>{0.5f, 0.3f, 5.0f}));
-  EXPECT_EQ(frame.low, (std::vector<bool>{false, true, false}));
+  EXPECT_EQ(frame.low, (std::vector<std::uint8_t>{0, 1, 0}));
   ASSERT_EQ(frame.centre.size(), 3u);
   EXPECT_EQ(frame.centre[0], Eigen::Vector2d(0.5, -6.5));
   EXPECT_EQ(frame.centre[1], Eigen::Vector2d(-4.5, -3.5));

@@ -9,12 +9,15 @@ namespace granular {
 PolarReturns::PolarReturns(const Cloud& cloud, const GroundPlane& ground) : ground_(ground) {
   returns_.reserve(cloud.size());
   for (const PointXYZIT& point : cloud) {
-    if (!std::isfinite(point.x) || !std::isfinite(point.y) || !std::isfinite(point.z)) {
+    const Eigen::Vector3d p(point.x, point.y, point.z);
+    const double height = ground_.heightOf(p);
+    // The height above a finite plane is finite exactly where x, y and z are (0 times
+    // infinity is NaN; no float overflows it): one test for three.
+    if (!std::isfinite(height)) {
       continue;
     }
-    const Eigen::Vector3d p(point.x, point.y, point.z);
-    returns_.push_back({fastAtan2(p.y(), p.x()) + M_PI, p.head<2>().norm(), ground_.heightOf(p),
-                        point.x, point.y});
+    returns_.push_back({fastAtan2(p.y(), p.x()) + M_PI, p.head<2>().norm(), height, point.x,
+                        point.y});
   }
 }
 

@@ -16,7 +16,7 @@ namespace granular {
 class PolarReturns {
  public:
   struct Return {
-    double azimuth;  ///< rad in [0, 2 pi]: fastAtan2(y, x) + pi (within 1e-4 rad)
+    double azimuth;  ///< rad in [0, 2 pi]: fastAtan2(y, x) + pi
     double range;    ///< m, from the sensor seen from above
     double height;   ///< m above the road plane
     float x, y;      ///< m, the sensor frame's (where fastAtan2's error matters)

@@ -96,6 +96,22 @@ TEST(LevelledObjectTest, TheOutlineKeepsTheNearestPointOfEachBearing) {
   EXPECT_EQ(outline[1], points[1]);
 }
 
+TEST(LevelledObjectTest, TheOutlineBehindTheSensorRunsFromMinusToPlus180Degrees) {
+  // Either side of the seam behind the sensor, and one point ahead: by bearing, least first.
+  const auto at = [](double range, double deg) {
+    return Eigen::Vector2d(range * std::cos(deg * M_PI / 180.0),
+                           range * std::sin(deg * M_PI / 180.0));
+  };
+  const std::vector<Eigen::Vector2d> points = {at(6.0, 179.5), at(8.0, 0.5), at(6.0, -179.5),
+                                               at(7.0, 179.6)};
+  const std::vector<Eigen::Vector2d> outline =
+      cuboids::outline(points, Eigen::Vector2d::Zero(), 1.0);
+  ASSERT_EQ(outline.size(), 3u);
+  EXPECT_EQ(outline[0], points[2]);
+  EXPECT_EQ(outline[1], points[1]);
+  EXPECT_EQ(outline[2], points[0]);
+}
+
 TEST(LevelledObjectTest, TheBodyExtentLeavesOutWhatIsBelowAThirdOfTheTop) {
   LevelledObject object;
   object.points = {{0.0, 0.0, 0.2}, {4.0, 0.0, 0.2}, {1.0, 0.0, 1.0}, {3.0, 1.0, 1.2}};

@@ -101,6 +101,7 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     top = std::max(top, heights[i]);
   }
   const Rectangle rectangle = minimumAreaRectangle(footprint);
+  const Eigen::Vector2d sight = (rectangle.centre - object.sensor.head<2>()).normalized();
   const Eigen::Vector2d length_axis(std::cos(rectangle.yaw), std::sin(rectangle.yaw));
   const Eigen::Vector2d width_axis(-length_axis.y(), length_axis.x());
   std::optional<Cut> cut;
@@ -108,9 +109,16 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     // Across the wider excess first: cars side by side, then nose to tail.
     if (rectangle.width > config.max_width) {
       cut = cutAlong(object, points, heights, width_axis, config);
-      if (!cut) {
-        // Cars side by side seen from their fronts: the row is the longer side.
-        cut = cutAlong(object, points, heights, length_axis, config);
+      // Cars side by side seen from their fronts: the row is the longer side. It is cut first
+      // where the width runs along the line of sight: successive rings spread apart over the
+      // roofs and bonnets leave valleys there that lie inside one car.
+      const auto along_sight = [&](const Eigen::Vector2d& axis) {
+        return std::abs(axis.dot(sight)) > std::cos(config.sight_gap_deg * M_PI / 180.0);
+      };
+      if (!cut || (along_sight(width_axis) && !along_sight(length_axis))) {
+        if (std::optional<Cut> across = cutAlong(object, points, heights, length_axis, config)) {
+          cut = across;
+        }
       }
     }
     if (!cut && rectangle.length > config.max_length) {

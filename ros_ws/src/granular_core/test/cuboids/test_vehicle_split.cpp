@@ -198,6 +198,33 @@ TEST(VehicleSplitTest, FrontsSideBySideAlongTheLineOfSightAreCutAlongTheRow) {
   EXPECT_FALSE(oneCarEach(splitVehicles(viewOf(points), width_first)));
 }
 
+TEST(VehicleSplitTest, TwoStaggeredFrontsAreCutAlongTheirOwnEdges) {
+  // A Jeep's and an SUV's fronts and near sides, nothing between x = 7.4 and 7.9, the SUV's
+  // front 0.75 m nearer the aisle: the minimum-area rectangle of their footprint lies across
+  // both, 4.9 m by 1.9 m (no wider than one car); along the fronts' and sides' own edges the
+  // footprint is 4.0 m by 3.2 m.
+  const std::vector<Eigen::Vector3d> points =
+      parkingLotSegment("parking_lot_staggered_pair.xyz");
+  ASSERT_EQ(points.size(), 315u);
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  int jeep = 0, suv = 0;
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      low = std::min(low, p.x()), high = std::max(high, p.x());
+    }
+    jeep += high < 7.5;
+    suv += low > 7.8;
+  }
+  EXPECT_EQ(jeep, 1);
+  EXPECT_EQ(suv, 1);
+  // Without looking along its edges, the footprint is one car's.
+  VehicleSplitConfig minimum_area_only;
+  minimum_area_only.edges_min_width = 0.0;
+  EXPECT_EQ(splitVehicles(viewOf(points), minimum_area_only).size(), 1u);
+}
+
 TEST(VehicleSplitTest, TheSpacingBetweenASparseScansColumnsIsNoGap) {
   // A car 2.1 m wide with its mirrors, its returns in columns 0.25 m apart along it: a bin of
   // the profile empty between some two columns, and no car behind the other.

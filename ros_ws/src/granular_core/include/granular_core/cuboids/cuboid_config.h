@@ -184,6 +184,10 @@ struct VehicleSplitConfig {
   /// their diagonals) or longer than max_length; one wider than max_width but not than this is
   /// cut there only at a run of empty bins (the ground between two bodies).
   double search_min_width = 2.3;
+  /// m: a footprint no wider than max_width whose rectangle along its L-shape's edges is wider
+  /// than this is cut along that rectangle's axes (two cars' fronts side by side, one further
+  /// back, make a minimum-area rectangle turned across both); 0: off.
+  double edges_min_width = 2.3;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -201,6 +205,7 @@ struct VehicleSplitConfig {
     visit("max_cuts", self.max_cuts, interval(0, 16, "cuts"));
     visit("search_step_deg", self.search_step_deg, interval(0.0, 90.0, "deg"));
     visit("search_min_width", self.search_min_width, positive("m"));
+    visit("edges_min_width", self.edges_min_width, nonNegative("m"));
   }
 };
 

@@ -43,8 +43,8 @@ class Scorer {
     }
     // Each axis's nearer edge: the one whose distances to all the points are the smaller
     // vector (the paper's argmin over the two candidate vectors).
-    const bool near_max1 = squaredDistances(c1_, max1) < squaredDistances(c1_, min1);
-    const bool near_max2 = squaredDistances(c2_, max2) < squaredDistances(c2_, min2);
+    const bool near_max1 = nearerToHigh(c1_, min1, max1);
+    const bool near_max2 = nearerToHigh(c2_, min2, max2);
     double closeness = 0.0;
     Moments e1, e2;
     for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -77,12 +77,15 @@ class Scorer {
     }
   };
 
-  static double squaredDistances(const std::vector<double>& values, double edge) {
-    double total = 0.0;
+  // Whether the squared distances of `values` to `high` sum to less than those to `low`: both
+  // sums in one pass, each in the values' order.
+  static bool nearerToHigh(const std::vector<double>& values, double low, double high) {
+    double to_high = 0.0, to_low = 0.0;
     for (const double value : values) {
-      total += (edge - value) * (edge - value);
+      to_high += (high - value) * (high - value);
+      to_low += (low - value) * (low - value);
     }
-    return total;
+    return to_high < to_low;
   }
 
   const std::vector<Eigen::Vector2d>& points_;

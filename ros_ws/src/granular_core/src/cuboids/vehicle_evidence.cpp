@@ -121,10 +121,12 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     if (height < config_.road_height) {
       continue;  // the road under and around it
     }
-    long bin = static_cast<long>(binOf(p.x(), p.y())) - centre_bin;
-    bin = ((bin + half) % static_cast<long>(bins_) + static_cast<long>(bins_)) %
-              static_cast<long>(bins_) -
-          half;
+    // (bin + half) modulo the bins, less half: the difference lies within a turn either way,
+    // so one wrap at most.
+    long wrapped = static_cast<long>(binOf(p.x(), p.y())) - centre_bin + half;
+    const long bins = static_cast<long>(bins_);
+    wrapped += wrapped < 0 ? bins : (wrapped >= bins ? -bins : 0);
+    const long bin = wrapped - half;
     const double u = p.x() * cos_yaw + p.y() * sin_yaw;
     const double v = -p.x() * sin_yaw + p.y() * cos_yaw;
     seen.push_back({bin, p.head<2>().norm(), height, u, v});

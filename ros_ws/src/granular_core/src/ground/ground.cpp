@@ -57,7 +57,7 @@ GroundEstimate estimateGround(const Cloud& cloud, const GroundConfig& config) {
   }
   estimate.ground.resize(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    estimate.ground[i] = estimate.heights[i] < config.ground_height;  // NaN: false
+    estimate.ground[i] = estimate.heights[i] < config.ground_height ? 1 : 0;  // NaN: 0
   }
   return estimate;
 }

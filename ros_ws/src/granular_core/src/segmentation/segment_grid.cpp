@@ -41,7 +41,7 @@ FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,
                          const ObjectSegmentationConfig& config, const PlaneGrid& grid,
                          std::vector<std::int32_t>& slot, CellBits& held) {
   const std::vector<float>& heights = ground.heights;
-  const std::vector<bool>& on_ground = ground.ground;
+  const std::vector<std::uint8_t>& on_ground = ground.ground;
   // Room for every return: growing them cost a frame a megabyte of copying.
   std::vector<std::size_t> candidates;
   candidates.reserve(cloud.size());
@@ -50,11 +50,9 @@ FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,
   std::vector<std::size_t> overhangs;  // higher than candidates, up to 8 m
   const double min_range_sq = config.min_range * config.min_range;
   const double max_range_sq = config.max_range * config.max_range;
-  // The ground flags read in step: indexing a vector<bool> cost a dozen instructions a return.
-  auto ground_flag = on_ground.begin();
-  for (std::size_t i = 0; i < cloud.size(); ++i, ++ground_flag) {
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
     const float height = heights[i];
-    if (*ground_flag || !std::isfinite(height)) {
+    if (on_ground[i] != 0 || !std::isfinite(height)) {
       continue;
     }
     const PointXYZIT& point = cloud[i];

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -172,8 +173,10 @@ struct GroundEstimate {
   GroundPlane plane;
   /// Per point of the cloud, m above the ground (NaN for a non-finite point).
   std::vector<float> heights;
-  /// Per point, height below config.ground_height (a non-finite point is not ground).
-  std::vector<bool> ground;
+  /// Per point, 1 where its height is below config.ground_height, else 0 (a non-finite point
+  /// is not ground). A byte each: a vector<bool> cost a dozen instructions a point to write and
+  /// as many to read.
+  std::vector<std::uint8_t> ground;
   /// Seeds RANSAC saw and the plane's inliers among them; 0 inliers: no plane was found and
   /// the plane is the flat one at -sensor_height.
   std::size_t seeds = 0;

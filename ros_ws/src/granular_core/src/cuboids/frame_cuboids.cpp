@@ -61,7 +61,7 @@ FrameCuboids fitFrameObjects(const std::vector<FrameObject>& objects, const Cubo
       pieces.push_back({objects[o].id, o, objects[o].view});
       continue;
     }
-    std::vector<ObjectView> cars = splitVehicles(objects[o].view, options.split);
+    std::vector<ObjectView> cars = splitVehicles(objects[o].view, options.split, options.lshape);
     for (std::size_t c = 0; c < cars.size(); ++c) {
       pieces.push_back({c == 0 ? objects[o].id : next_split_id++, o, std::move(cars[c])});
     }
@@ -137,6 +137,7 @@ FrameCuboids fitSegmentCuboids(const Cloud& cloud, const ObjectSegmentation& seg
   FrameCuboidsOptions options;
   options.evidence = evidence ? &*evidence : nullptr;
   options.split = config.split;
+  options.lshape = config.lshape;
   options.neighbour_heading = config.neighbour_heading;
   options.first_split_id = static_cast<std::int64_t>(objects.size());
   options.threads = threads;

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "granular_core/geometry/footprint.h"
+#include "levelled_object.h"
 
 namespace granular {
 namespace {
@@ -91,16 +92,46 @@ std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::siz
              !seen[*best]};
 }
 
+// The rectangle of `points` along the sides of their L-shape (the outline's two edges), as a
+// Rectangle: its length the longer side.
+Rectangle lshapeFootprint(const ObjectView& object, const std::vector<std::size_t>& points,
+                          const LShapeConfig& lshape) {
+  cuboids::LevelledObject footprint;
+  footprint.sensor = object.sensor.head<2>();
+  for (const std::size_t i : points) {
+    footprint.points.push_back(object.points[i]);
+  }
+  const AxisRectangle fitted = cuboids::lshapeRectangle(footprint, lshape);
+  const Eigen::Vector2d extent = fitted.extent();
+  const int longer = extent.x() >= extent.y() ? 0 : 1;
+  Rectangle rectangle;
+  rectangle.centre = fitted.centre();
+  rectangle.yaw = fitted.heading + (longer == 1 ? M_PI / 2 : 0.0);
+  rectangle.length = extent[longer];
+  rectangle.width = extent[1 - longer];
+  return rectangle;
+}
+
 void split(const ObjectView& object, std::vector<std::size_t> points,
-           const std::vector<double>& heights, const VehicleSplitConfig& config, int depth,
-           std::vector<ObjectView>& pieces) {
+           const std::vector<double>& heights, const VehicleSplitConfig& config,
+           const LShapeConfig& lshape, int depth, std::vector<ObjectView>& pieces) {
   std::vector<Eigen::Vector2d> footprint;
   double top = 0.0;
   for (const std::size_t i : points) {
     footprint.push_back(object.points[i].head<2>());
     top = std::max(top, heights[i]);
   }
-  const Rectangle rectangle = minimumAreaRectangle(footprint);
+  Rectangle rectangle = minimumAreaRectangle(footprint);
+  // Two cars' L-shapes side by side, one further back, make a minimum-area rectangle turned
+  // across both and no wider than one car; along their own edges they span two cars.
+  if (config.edges_min_width > 0.0 && rectangle.width <= config.max_width &&
+      rectangle.length > config.max_width && depth < config.max_cuts && top <= config.max_top) {
+    const Rectangle along_edges = lshapeFootprint(object, points, lshape);
+    if (along_edges.width > config.edges_min_width) {
+      rectangle = along_edges;
+    }
+  }
+  const Eigen::Vector2d sight = (rectangle.centre - object.sensor.head<2>()).normalized();
   const Eigen::Vector2d length_axis(std::cos(rectangle.yaw), std::sin(rectangle.yaw));
   const Eigen::Vector2d width_axis(-length_axis.y(), length_axis.x());
   std::optional<Cut> cut;
@@ -108,9 +139,16 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     // Across the wider excess first: cars side by side, then nose to tail.
     if (rectangle.width > config.max_width) {
       cut = cutAlong(object, points, heights, width_axis, config);
-      if (!cut) {
-        // Cars side by side seen from their fronts: the row is the longer side.
-        cut = cutAlong(object, points, heights, length_axis, config);
+      // Cars side by side seen from their fronts: the row is the longer side. It is cut first
+      // where the width runs along the line of sight: successive rings spread apart over the
+      // roofs and bonnets leave valleys there that lie inside one car.
+      const auto along_sight = [&](const Eigen::Vector2d& axis) {
+        return std::abs(axis.dot(sight)) > std::cos(config.sight_gap_deg * M_PI / 180.0);
+      };
+      if (!cut || (along_sight(width_axis) && !along_sight(length_axis))) {
+        if (std::optional<Cut> across = cutAlong(object, points, heights, length_axis, config)) {
+          cut = across;
+        }
       }
     }
     if (!cut && rectangle.length > config.max_length) {
@@ -147,13 +185,14 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
   for (const std::size_t i : points) {
     (object.points[i].head<2>().dot(cut->axis) < cut->at ? near : far).push_back(i);
   }
-  split(object, std::move(near), heights, config, depth + 1, pieces);
-  split(object, std::move(far), heights, config, depth + 1, pieces);
+  split(object, std::move(near), heights, config, lshape, depth + 1, pieces);
+  split(object, std::move(far), heights, config, lshape, depth + 1, pieces);
 }
 
 }  // namespace
 
-std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSplitConfig& config) {
+std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSplitConfig& config,
+                                      const LShapeConfig& lshape) {
   if (!config.enabled || object.points.size() < 3) {
     return {object};
   }
@@ -168,7 +207,7 @@ std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSpl
     heights[i] = heightAbove(object, object.points[i], lowest);
   }
   std::vector<ObjectView> pieces;
-  split(object, std::move(points), heights, config, 0, pieces);
+  split(object, std::move(points), heights, config, lshape, 0, pieces);
   return pieces;
 }
 

@@ -170,6 +170,61 @@ TEST(VehicleSplitTest, APairNoWiderThanTwoCarsIsCutOnlyAtEmptyGroundBetweenThem)
   EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
 }
 
+TEST(VehicleSplitTest, FrontsSideBySideAlongTheLineOfSightAreCutAlongTheRow) {
+  // A hatchback's and an SUV's fronts, bonnets and roofs, 0.4 m apart (x 4.9 to 5.4), their
+  // lengths along the line of sight: a footprint 4.2 m along the row and 3.4 m deep. The rings
+  // spread over the roofs leave empty bins along the line of sight, inside both cars.
+  const std::vector<Eigen::Vector3d> points =
+      parkingLotSegment("parking_lot_fronts_along_sight.xyz");
+  ASSERT_EQ(points.size(), 139u);
+  const auto oneCarEach = [](const std::vector<ObjectView>& pieces) {
+    int hatchback = 0, suv = 0;
+    for (const ObjectView& piece : pieces) {
+      double low = 1e9, high = -1e9;
+      for (const Eigen::Vector3d& p : piece.points) {
+        low = std::min(low, p.x()), high = std::max(high, p.x());
+      }
+      hatchback += high < 5.0;
+      suv += low > 5.3;
+    }
+    return hatchback == 1 && suv == 1;
+  };
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  EXPECT_EQ(pieces.size(), 2u);
+  EXPECT_TRUE(oneCarEach(pieces));
+  // Cut across the width first, the depth is cut between the rings on the roofs.
+  VehicleSplitConfig width_first;
+  width_first.sight_gap_deg = 0.0;
+  EXPECT_FALSE(oneCarEach(splitVehicles(viewOf(points), width_first)));
+}
+
+TEST(VehicleSplitTest, TwoStaggeredFrontsAreCutAlongTheirOwnEdges) {
+  // A Jeep's and an SUV's fronts and near sides, nothing between x = 7.4 and 7.9, the SUV's
+  // front 0.75 m nearer the aisle: the minimum-area rectangle of their footprint lies across
+  // both, 4.9 m by 1.9 m (no wider than one car); along the fronts' and sides' own edges the
+  // footprint is 4.0 m by 3.2 m.
+  const std::vector<Eigen::Vector3d> points =
+      parkingLotSegment("parking_lot_staggered_pair.xyz");
+  ASSERT_EQ(points.size(), 315u);
+  const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  int jeep = 0, suv = 0;
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      low = std::min(low, p.x()), high = std::max(high, p.x());
+    }
+    jeep += high < 7.5;
+    suv += low > 7.8;
+  }
+  EXPECT_EQ(jeep, 1);
+  EXPECT_EQ(suv, 1);
+  // Without looking along its edges, the footprint is one car's.
+  VehicleSplitConfig minimum_area_only;
+  minimum_area_only.edges_min_width = 0.0;
+  EXPECT_EQ(splitVehicles(viewOf(points), minimum_area_only).size(), 1u);
+}
+
 TEST(VehicleSplitTest, TheSpacingBetweenASparseScansColumnsIsNoGap) {
   // A car 2.1 m wide with its mirrors, its returns in columns 0.25 m apart along it: a bin of
   // the profile empty between some two columns, and no car behind the other.

@@ -171,6 +171,10 @@ struct VehicleSplitConfig {
   /// m: empty bins count as a valley (the gap between two bodies) only over this length at
   /// least; shorter runs are the spacing between the scan's returns.
   double min_gap = 0.3;
+  /// deg: a footprint wider than a car whose width runs within this of the line of sight is
+  /// cut along its length first where both show a valley (successive rings spread apart over
+  /// roofs and bonnets leave valleys inside one car along the line of sight); 0: width first.
+  double sight_gap_deg = 45.0;
   double road_height = 0.2;  ///< m: lower returns are the road
   int max_cuts = 4;          ///< cuts per segment, the deepest first
   /// deg: where neither side of the footprint's rectangle shows a valley, directions this far
@@ -180,6 +184,10 @@ struct VehicleSplitConfig {
   /// their diagonals) or longer than max_length; one wider than max_width but not than this is
   /// cut there only at a run of empty bins (the ground between two bodies).
   double search_min_width = 2.3;
+  /// m: a footprint no wider than max_width whose rectangle along its L-shape's edges is wider
+  /// than this is cut along that rectangle's axes (two cars' fronts side by side, one further
+  /// back, make a minimum-area rectangle turned across both); 0: off.
+  double edges_min_width = 2.3;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -192,10 +200,12 @@ struct VehicleSplitConfig {
     visit("min_piece", self.min_piece, positive("m"));
     visit("min_drop", self.min_drop, nonNegative("m"));
     visit("min_gap", self.min_gap, nonNegative("m"));
+    visit("sight_gap_deg", self.sight_gap_deg, interval(0.0, 90.0, "deg"));
     visit("road_height", self.road_height, nonNegative("m"));
     visit("max_cuts", self.max_cuts, interval(0, 16, "cuts"));
     visit("search_step_deg", self.search_step_deg, interval(0.0, 90.0, "deg"));
     visit("search_min_width", self.search_min_width, positive("m"));
+    visit("edges_min_width", self.edges_min_width, nonNegative("m"));
   }
 };
 

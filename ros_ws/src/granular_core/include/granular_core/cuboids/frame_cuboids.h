@@ -49,6 +49,8 @@ struct FrameCuboidsOptions {
   const VehicleEvidence* evidence = nullptr;
   /// The cutting of touching cars (CuboidConfig::split), done where `evidence` is given.
   VehicleSplitConfig split;
+  /// The L-shape (CuboidConfig::lshape) whose edges tell two staggered cars in one footprint.
+  LShapeConfig lshape;
   /// Headings lent by neighbours (CuboidConfig::neighbour_heading), where `evidence` is given.
   NeighbourHeadingConfig neighbour_heading;
   /// The id of the first piece cut off an object after its first piece.

@@ -145,7 +145,8 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
 
   // A tentative track that missed more than birth_misses times in all ends: it takes no more
   // detections, and is kept through backfill_gap frames in a row without one for a track
-  // started near its predicted place in a later frame to take its frames.
+  // started near its predicted place in a later frame to take its frames (in the frame it ends
+  // in, no cuboid within its gates was left to start one).
   std::vector<std::size_t> ended;
   for (std::size_t t = 0; t < states_.size(); ++t) {
     State& state = states_[t];
@@ -157,9 +158,9 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   // Each observation no track took starts a tentative track; one within an ended track's gates
   // (the least total cost, as above) takes that track's frames before its own, for an offline
   // user to write back once it is born. Its filter, votes and birth are its own.
-  std::vector<bool> started_by_none = taken;
+  std::vector<bool> taken_or_continuing = taken;  // `taken` still says which start tracks
   std::vector<std::optional<std::size_t>> continued(states_.size());
-  associate(ended, observations, started_by_none, continued);
+  associate(ended, observations, taken_or_continuing, continued);
   std::vector<std::optional<std::size_t>> earlier_track(observations.size());
   for (const std::size_t t : ended) {
     if (continued[t]) {

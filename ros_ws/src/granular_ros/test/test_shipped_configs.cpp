@@ -130,13 +130,16 @@ TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   tracking.filter.yaw_window = 1;
   tracking.birth_misses = 0;
   tracking.vote = granular::ClassVote::kVotes;
+  tracking.bridge_frames = 0;
+  tracking.backfill_gap = 0;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
   EXPECT_NO_THROW(granular::validate(tracking));
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 
 TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeCloudsAndEndsThemAfterTwelve) {
-  // online.launch loads it over tracking.yaml: the births and deaths only differ.
+  // online.launch loads it over tracking.yaml: the births and deaths differ, and no ended
+  // tentative track is kept (nothing can be written back online).
   granular::TrackingConfig tracking;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
   ASSERT_NO_THROW(
@@ -144,8 +147,10 @@ TEST(ShippedConfigTest, TrackingOnlineYamlBearsTracksAfterThreeCloudsAndEndsThem
   EXPECT_NO_THROW(granular::validate(tracking));
   EXPECT_EQ(tracking.birth_hits, 3u);
   EXPECT_EQ(tracking.death_misses, 12u);
+  EXPECT_EQ(tracking.backfill_gap, 0u);
   tracking.birth_hits = granular::TrackingConfig().birth_hits;
   tracking.death_misses = granular::TrackingConfig().death_misses;
+  tracking.backfill_gap = granular::TrackingConfig().backfill_gap;
   EXPECT_TRUE(tracking == granular::TrackingConfig());
 }
 

@@ -122,10 +122,12 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     top = std::max(top, heights[i]);
   }
   Rectangle rectangle = minimumAreaRectangle(footprint);
-  // Two cars' L-shapes side by side, one further back, make a minimum-area rectangle turned
-  // across both and no wider than one car; along their own edges they span two cars.
-  if (config.edges_min_width > 0.0 && rectangle.width <= config.max_width &&
-      rectangle.length > config.max_width && depth < config.max_cuts && top <= config.max_top) {
+  // Cars seen in part show L-shapes (a front and a side) whose minimum-area rectangle lies
+  // across them: two side by side, one further back, make one turned across both and no wider
+  // than a car; a front and its neighbour's side, one turned so that a cut across it runs
+  // diagonally through both. Along the L-shape's own edges, the rows' directions, they part.
+  if (config.edges_min_width > 0.0 && rectangle.length > config.max_width &&
+      depth < config.max_cuts && top <= config.max_top) {
     const Rectangle along_edges = lshapeFootprint(object, points, lshape);
     if (along_edges.width > config.edges_min_width) {
       rectangle = along_edges;

@@ -230,14 +230,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   std::optional<Tracker> tracker;
   // Frames not written yet: a track born later may still add cuboids to them.
   std::deque<PendingFrame> pending;
-  std::size_t held_frames = 0;
   if (options.tracking) {
     tracker.emplace(*options.tracking);
     summary.tracked = true;
-    // A track born may write back birth_hits - 1 + birth_misses frames, and one that coasted
-    // bridge_frames frames bridges them from its cuboid before those.
-    held_frames = std::max(options.tracking->birth_hits - 1 + options.tracking->birth_misses,
-                           options.tracking->bridge_frames + 1);
   }
   const auto write = [&](PendingFrame& frame) {
     if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
@@ -388,10 +383,14 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
                                        pending_frame.fitted, observations);
     }
     pending.push_back(std::move(pending_frame));
+    std::size_t held_frames = 0;
     if (tracker) {
       trackFrame(*tracker, *options.tracking, frames / "pcd" / (stamp + ".pcd"), pending,
                  observations);
       summary.tracks = tracker->born();
+      // A track born in the next frame may write back to its tentative frames, and one that
+      // coasted bridge_frames frames bridges them from its cuboid before those.
+      held_frames = std::max(tracker->tentativeReach(), options.tracking->bridge_frames) + 1;
     } else {
       pending.back().written = pending.back().fitted;
     }

@@ -103,7 +103,7 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   for (const bool born : {true, false}) {
     std::vector<std::size_t> tracks;
     for (std::size_t t = 0; t < states_.size(); ++t) {
-      if ((states_[t].id != 0) == born) {
+      if ((states_[t].id != 0) == born && !states_[t].ended) {
         tracks.push_back(t);
       }
     }
@@ -143,20 +143,33 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.misses = 0;
   }
 
-  // Death: a tentative track missed more than birth_misses times in all, a reported one
-  // missed death_misses times in a row.
-  std::vector<State> alive;
-  for (State& state : states_) {
-    const bool dead = state.id == 0 ? state.tentative_misses > config_.birth_misses
-                                    : state.misses >= config_.death_misses;
-    if (!dead) {
-      alive.push_back(std::move(state));
+  // A tentative track that missed more than birth_misses times in all ends: it takes no more
+  // detections, and is kept through backfill_gap frames in a row without one for a track
+  // started near its predicted place in a later frame to take its frames (in the frame it ends
+  // in, no cuboid within its gates was left to start one).
+  std::vector<std::size_t> ended;
+  for (std::size_t t = 0; t < states_.size(); ++t) {
+    State& state = states_[t];
+    if (state.ended) {
+      ended.push_back(t);
+    }
+    state.ended = state.ended || (state.id == 0 && state.tentative_misses > config_.birth_misses);
+  }
+  // Each observation no track took starts a tentative track; one within an ended track's gates
+  // (the least total cost, as above) takes that track's frames before its own, for an offline
+  // user to write back once it is born. Its filter, votes and birth are its own.
+  std::vector<bool> taken_or_continuing = taken;  // `taken` still says which start tracks
+  std::vector<std::optional<std::size_t>> continued(states_.size());
+  associate(ended, observations, taken_or_continuing, continued);
+  std::vector<std::optional<std::size_t>> earlier_track(observations.size());
+  for (const std::size_t t : ended) {
+    if (continued[t]) {
+      earlier_track[*continued[t]] = t;
     }
   }
-  states_ = std::move(alive);
 
-  // New tentative tracks from the observations no track took.
   const double v0 = config_.filter.initial_velocity_std * config_.filter.initial_velocity_std;
+  std::vector<State> started;
   for (std::size_t o = 0; o < observations.size(); ++o) {
     if (taken[o]) {
       continue;
@@ -171,8 +184,28 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
     state.size = box.size();
     vote(state, observations[o]);
     state.observation = o;
-    state.tentative_observations = {{frames_, o}};
+    if (earlier_track[o]) {
+      State& earlier = states_[*earlier_track[o]];
+      state.tentative_observations = std::move(earlier.tentative_observations);
+      earlier.misses = config_.backfill_gap + 1;  // its frames are the new track's now
+    }
+    state.tentative_observations.emplace_back(frames_, o);
     state.hits = 1;
+    started.push_back(std::move(state));
+  }
+
+  // Death: an ended tentative track missed more than backfill_gap times in a row (or its frames
+  // went to a new track), a reported one death_misses times in a row.
+  std::vector<State> alive;
+  for (State& state : states_) {
+    const bool dead = state.id == 0 ? state.ended && state.misses > config_.backfill_gap
+                                    : state.misses >= config_.death_misses;
+    if (!dead) {
+      alive.push_back(std::move(state));
+    }
+  }
+  states_ = std::move(alive);
+  for (State& state : started) {
     states_.push_back(std::move(state));
   }
 
@@ -197,6 +230,16 @@ std::vector<Track> Tracker::update(double stamp, const std::vector<Observation>&
   std::sort(tracks.begin(), tracks.end(),
             [](const Track& a, const Track& b) { return a.id < b.id; });
   return tracks;
+}
+
+std::size_t Tracker::tentativeReach() const {
+  std::size_t reach = 0;
+  for (const State& state : states_) {
+    if (state.id == 0) {
+      reach = std::max(reach, frames_ - state.tentative_observations.front().first);
+    }
+  }
+  return reach;
 }
 
 void Tracker::associate(const std::vector<std::size_t>& tracks,

@@ -118,11 +118,12 @@ TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
   // A segment of the simulated parking lot: an SUV's and a sedan's fronts, their lengths along
   // y, 0.7 m apart between x = -7.25 and -6.52. Its sparse returns make a footprint whose
   // minimum-area rectangle is turned 25 degrees off both cars: across neither of its sides do
-  // their profiles part, across the gap's own direction they do.
+  // their profiles part, across the gap's own direction (and their L-shape's edges) they do.
   const std::vector<Eigen::Vector3d> points = parkingLotSegment("parking_lot_two_fronts.xyz");
   ASSERT_EQ(points.size(), 408u);
   VehicleSplitConfig rectangle_only;
   rectangle_only.search_step_deg = 0.0;
+  rectangle_only.edges_min_width = 0.0;
   EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
   const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
   ASSERT_EQ(pieces.size(), 2u);
@@ -164,9 +165,10 @@ TEST(VehicleSplitTest, APairNoWiderThanTwoCarsIsCutOnlyAtEmptyGroundBetweenThem)
   }
   EXPECT_EQ(jeep, 1);
   EXPECT_EQ(suv, 1);
-  // Across the rectangle's own sides nothing parts them.
+  // Across the minimum-area rectangle's own sides nothing parts them.
   VehicleSplitConfig rectangle_only;
   rectangle_only.search_step_deg = 0.0;
+  rectangle_only.edges_min_width = 0.0;
   EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
 }
 

@@ -324,6 +324,46 @@ TEST_F(FitCuboidsFolderTest, AFrameATrackCoastedThroughIsBridged) {
   EXPECT_TRUE(empty4.empty());
 }
 
+TEST_F(FitCuboidsFolderTest, ATracksFramesBeforeAnEndedRunAreWrittenWithBackfillGap) {
+  // Seven frames 0.1 s apart of the car driving along its heading at 10 m/s, its points gone
+  // in frame 2, and a parked car seen in frames 0 and 1 only. Births after 3 frames: the car's
+  // track is born in frame 5. With backfill_gap 1 it is written in frames 0, 1 and 3-6, with
+  // 0 in frames 3-6 only; the parked car is written in no frame.
+  const fs::path drive = root_ / "drive";
+  fs::create_directories(drive / "pcd");
+  const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
+  StandingBox parked;
+  parked.centre = {-12.0, -6.0};
+  std::vector<std::string> stamps;
+  for (int k = 0; k < 7; ++k) {
+    StandingBox car = car_;
+    car.centre += 1.0 * k * heading;
+    std::vector<StandingBox> seen;
+    if (k != 2) seen.push_back(car);
+    if (k < 2) seen.push_back(parked);
+    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
+    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"), scene(seen));
+  }
+  const auto written = [&](std::size_t backfill_gap, const std::string& out) {
+    FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
+    tracked.tracking = TrackingConfig();
+    tracked.tracking->birth_hits = 3;
+    tracked.tracking->backfill_gap = backfill_gap;
+    fitCuboidsFolder(drive, root_ / out, carPrior(), tracked);
+    std::vector<std::vector<int>> ids;
+    for (const std::string& stamp : stamps) {
+      ids.emplace_back();
+      for (const Detection& cuboid : readDetectionsJson(root_ / out / (stamp + ".json"))) {
+        ids.back().push_back(cuboid.id);
+      }
+    }
+    return ids;
+  };
+  EXPECT_EQ(written(1, "kept"), (std::vector<std::vector<int>>{{1}, {1}, {}, {1}, {1}, {1}, {1}}));
+  EXPECT_EQ(written(0, "dropped"),
+            (std::vector<std::vector<int>>{{}, {}, {}, {1}, {1}, {1}, {1}}));
+}
+
 TEST_F(FitCuboidsFolderTest, TrackingRefusesFramesWhoseStampsDoNotIncrease) {
   // The second frame's detections file gives it the first frame's stamp.
   write(frames_ / "detections_3d" / (bare_stamp_ + ".json"), frameJson(""));

@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -227,6 +228,51 @@ TEST(TrackerTest, ATentativeTrackMayMissBirthMissesFramesBeforeItsBirth) {
   EXPECT_EQ(earlier, (std::vector<EarlierObservation>{{3, 0}, {2, 0}}));
   EXPECT_EQ(run(0, lost_once).first, (std::vector<std::uint32_t>{0, 0, 0, 0, 0, 1, 1}));
   EXPECT_EQ(run(1, {0, 2, 4, 6}).first, (std::vector<std::uint32_t>(7, 0)));
+}
+
+TEST(TrackerTest, ATrackBornAfterItsFirstRunEndedNamesThatRunsFramesWithBackfillGap) {
+  // A car seen in frames 0 and 1, lost in frame 2, then seen from frame 3 on: its first run
+  // ends in frame 2 (birth_misses 0) and its track is born in frame 5, as without back-fill.
+  // With backfill_gap 1 the track started in frame 3 takes the ended run's frames, and is
+  // born naming frames 0, 1, 3 and 4; with 0 only 3 and 4. A car seen in frames 0 and 1 only
+  // is never born, with or without: nothing names its frames.
+  const auto run = [](std::size_t backfill_gap, const std::vector<int>& seen) {
+    TrackingConfig config = threeHits();
+    config.backfill_gap = backfill_gap;
+    Tracker tracker(config);
+    std::vector<std::uint32_t> ids;
+    std::vector<std::size_t> reach;
+    std::vector<EarlierObservation> earlier;
+    for (int k = 0; k < 8; ++k) {
+      std::vector<Observation> frame;
+      if (std::find(seen.begin(), seen.end(), k) != seen.end()) {
+        frame.push_back(car(10.0 + 0.2 * k, 4.0));
+      }
+      const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
+      ids.push_back(tracks.empty() ? 0 : tracks[0].id);
+      reach.push_back(tracker.tentativeReach());
+      if (!tracks.empty() && !tracks[0].earlier_observations.empty()) {
+        earlier = tracks[0].earlier_observations;
+      }
+    }
+    return std::make_tuple(ids, earlier, reach);
+  };
+  const std::vector<int> lost_once = {0, 1, 3, 4, 5, 6, 7};
+  const std::vector<std::uint32_t> born_in_5 = {0, 0, 0, 0, 0, 1, 1, 1};
+  const auto [ids, earlier, reach] = run(1, lost_once);
+  EXPECT_EQ(ids, born_in_5);
+  EXPECT_EQ(earlier, (std::vector<EarlierObservation>{{5, 0}, {4, 0}, {2, 0}, {1, 0}}));
+  // Frame 0 held until the birth: 0, 1 and 2 frames back, then 3 and 4 through the new track.
+  EXPECT_EQ(reach, (std::vector<std::size_t>{0, 1, 2, 3, 4, 0, 0, 0}));
+  const auto [ids_without, earlier_without, reach_without] = run(0, lost_once);
+  EXPECT_EQ(ids_without, born_in_5);
+  EXPECT_EQ(earlier_without, (std::vector<EarlierObservation>{{2, 0}, {1, 0}}));
+  EXPECT_EQ(reach_without, (std::vector<std::size_t>{0, 1, 0, 0, 1, 0, 0, 0}));
+  const auto [ids_twice, earlier_twice, reach_twice] = run(1, {0, 1});
+  EXPECT_EQ(ids_twice, std::vector<std::uint32_t>(8, 0));
+  EXPECT_TRUE(earlier_twice.empty());
+  // Kept through frame 2 (one miss after its run ended), gone in frame 3.
+  EXPECT_EQ(reach_twice, (std::vector<std::size_t>{0, 1, 2, 0, 0, 0, 0, 0}));
 }
 
 TEST(TrackerTest, EstimatesTheVelocityAndPointsTheYawAlongIt) {

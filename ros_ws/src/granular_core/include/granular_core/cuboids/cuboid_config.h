@@ -184,9 +184,9 @@ struct VehicleSplitConfig {
   /// their diagonals) or longer than max_length; one wider than max_width but not than this is
   /// cut there only at a run of empty bins (the ground between two bodies).
   double search_min_width = 2.3;
-  /// m: a footprint no wider than max_width whose rectangle along its L-shape's edges is wider
-  /// than this is cut along that rectangle's axes (two cars' fronts side by side, one further
-  /// back, make a minimum-area rectangle turned across both); 0: off.
+  /// m: a footprint whose rectangle along its L-shape's edges is wider than this is cut along
+  /// that rectangle's axes, not its minimum-area rectangle's (the L-shapes of cars seen in part
+  /// make minimum-area rectangles turned across them); 0: off.
   double edges_min_width = 2.3;
 
   template <class Self, class Visit>

@@ -15,10 +15,10 @@ namespace granular {
 /// the road) are binned every `bin` metres; a cut goes through the lowest bin (empty, or whose
 /// highest return is lowest) that lies at least `min_piece` from either end and at least
 /// `min_drop` below the tops on both sides, and the pieces are cut again while they still
-/// exceed one car. A footprint whose minimum-area rectangle is no wider than one car but whose
-/// rectangle along its L-shape's edges (`lshape`) is wider than `edges_min_width` (two cars
-/// staggered) is cut along that rectangle's axes instead. Each piece keeps the object's ground,
-/// height cap, sensor and free space.
+/// exceed one car. A footprint whose rectangle along its L-shape's edges (`lshape`) is wider
+/// than `edges_min_width` is cut along that rectangle's axes instead (cars seen in part show
+/// L-shapes whose minimum-area rectangle lies across them). Each piece keeps the object's
+/// ground, height cap, sensor and free space.
 std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSplitConfig& config,
                                       const LShapeConfig& lshape = LShapeConfig());
 

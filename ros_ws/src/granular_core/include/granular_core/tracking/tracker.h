@@ -53,7 +53,9 @@ struct Track {
   std::optional<std::size_t> observation;
   /// In the frame the track is born only: its observations in the frames before, while it was
   /// tentative (birth_hits - 1 of them, within the birth_hits - 1 + birth_misses frames
-  /// before), oldest first. An offline user may report the track there too; empty otherwise.
+  /// before), and with backfill_gap those of the ended tentative tracks it continued (see
+  /// TrackingConfig::backfill_gap), oldest first. An offline user may report the track there
+  /// too; empty otherwise.
   std::vector<EarlierObservation> earlier_observations;
 };
 
@@ -86,6 +88,11 @@ class Tracker {
   /// Tracks born so far (the reported ids run from 1 to this).
   std::uint32_t born() const { return next_id_ - 1; }
 
+  /// How many frames before the latest one the oldest observation of a live tentative track
+  /// is (0 without one): a track born in the next frame may name observations up to this plus
+  /// one frames before it (Track::earlier_observations), which an offline user must still hold.
+  std::size_t tentativeReach() const;
+
  private:
   struct State {
     std::uint32_t id = 0;  // 0 while tentative
@@ -99,6 +106,9 @@ class Tracker {
     std::size_t misses = 0;  // in a row
     std::size_t gap = 0;  // the misses in a row before this frame's observation
     std::size_t tentative_misses = 0;  // in all, while tentative
+    // A tentative track that missed more than birth_misses times: it takes no detection, and
+    // is kept (backfill_gap) for a new track started near it to take its frames.
+    bool ended = false;
     std::optional<std::size_t> observation;
     // Until born: (frame number, observation index) of each hit.
     std::vector<std::pair<std::size_t, std::size_t>> tentative_observations;

@@ -121,13 +121,14 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
     footprint.push_back(object.points[i].head<2>());
     top = std::max(top, heights[i]);
   }
+  // Trucks and buses are not cut, nor pieces already cut max_cuts deep.
+  const bool may_cut = depth < config.max_cuts && top <= config.max_top;
   Rectangle rectangle = minimumAreaRectangle(footprint);
   // Cars seen in part show L-shapes (a front and a side) whose minimum-area rectangle lies
   // across them: two side by side, one further back, make one turned across both and no wider
   // than a car; a front and its neighbour's side, one turned so that a cut across it runs
   // diagonally through both. Along the L-shape's own edges, the rows' directions, they part.
-  if (config.edges_min_width > 0.0 && rectangle.length > config.max_width &&
-      depth < config.max_cuts && top <= config.max_top) {
+  if (may_cut && config.edges_min_width > 0.0 && rectangle.length > config.max_width) {
     const Rectangle along_edges = lshapeFootprint(object, points, lshape);
     if (along_edges.width > config.edges_min_width) {
       rectangle = along_edges;
@@ -137,7 +138,7 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
   const Eigen::Vector2d length_axis(std::cos(rectangle.yaw), std::sin(rectangle.yaw));
   const Eigen::Vector2d width_axis(-length_axis.y(), length_axis.x());
   std::optional<Cut> cut;
-  if (depth < config.max_cuts && top <= config.max_top) {
+  if (may_cut) {
     // Across the wider excess first: cars side by side, then nose to tail.
     if (rectangle.width > config.max_width) {
       cut = cutAlong(object, points, heights, width_axis, config);

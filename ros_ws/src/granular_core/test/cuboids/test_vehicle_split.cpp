@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -114,6 +115,24 @@ std::vector<Eigen::Vector3d> parkingLotSegment(const std::string& name) {
   return points;
 }
 
+// How many of `pieces` lie wholly below x = `below` and how many wholly above x = `above`,
+// by their returns higher than `min_height` above the road.
+std::pair<int, int> piecesEitherSide(const std::vector<ObjectView>& pieces, double below,
+                                     double above, double min_height = -1e9) {
+  std::pair<int, int> sides{0, 0};
+  for (const ObjectView& piece : pieces) {
+    double low = 1e9, high = -1e9;
+    for (const Eigen::Vector3d& p : piece.points) {
+      if (p.z() > -kSensorHeight + min_height) {
+        low = std::min(low, p.x()), high = std::max(high, p.x());
+      }
+    }
+    sides.first += high < below;
+    sides.second += low > above;
+  }
+  return sides;
+}
+
 TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
   // A segment of the simulated parking lot: an SUV's and a sedan's fronts, their lengths along
   // y, 0.7 m apart between x = -7.25 and -6.52. Its sparse returns make a footprint whose
@@ -127,20 +146,8 @@ TEST(VehicleSplitTest, TwoFrontsSeenAtASlantAreCutAcrossTheGapBetweenThem) {
   EXPECT_EQ(splitVehicles(viewOf(points), rectangle_only).size(), 1u);
   const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
   ASSERT_EQ(pieces.size(), 2u);
-  // Each piece's returns above the road lie on one side of the gap.
-  int suv = 0, sedan = 0;
-  for (const ObjectView& piece : pieces) {
-    double low = 1e9, high = -1e9;
-    for (const Eigen::Vector3d& p : piece.points) {
-      if (p.z() > -kSensorHeight + 0.2) {
-        low = std::min(low, p.x()), high = std::max(high, p.x());
-      }
-    }
-    suv += high < -7.0;
-    sedan += low > -6.8;
-  }
-  EXPECT_EQ(suv, 1);
-  EXPECT_EQ(sedan, 1);
+  // Each piece's returns above the road lie on one side of the gap: the SUV's, the sedan's.
+  EXPECT_EQ(piecesEitherSide(pieces, -7.0, -6.8, 0.2), std::make_pair(1, 1));
 }
 
 TEST(VehicleSplitTest, APairNoWiderThanTwoCarsIsCutOnlyAtEmptyGroundBetweenThem) {
@@ -152,19 +159,7 @@ TEST(VehicleSplitTest, APairNoWiderThanTwoCarsIsCutOnlyAtEmptyGroundBetweenThem)
   ASSERT_EQ(points.size(), 273u);
   const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
   ASSERT_EQ(pieces.size(), 2u);
-  int jeep = 0, suv = 0;
-  for (const ObjectView& piece : pieces) {
-    double low = 1e9, high = -1e9;
-    for (const Eigen::Vector3d& p : piece.points) {
-      if (p.z() > -kSensorHeight + 0.2) {
-        low = std::min(low, p.x()), high = std::max(high, p.x());
-      }
-    }
-    jeep += high < 8.1;
-    suv += low > 8.4;
-  }
-  EXPECT_EQ(jeep, 1);
-  EXPECT_EQ(suv, 1);
+  EXPECT_EQ(piecesEitherSide(pieces, 8.1, 8.4, 0.2), std::make_pair(1, 1));  // Jeep, SUV
   // Across the minimum-area rectangle's own sides nothing parts them.
   VehicleSplitConfig rectangle_only;
   rectangle_only.search_step_deg = 0.0;
@@ -179,17 +174,9 @@ TEST(VehicleSplitTest, FrontsSideBySideAlongTheLineOfSightAreCutAlongTheRow) {
   const std::vector<Eigen::Vector3d> points =
       parkingLotSegment("parking_lot_fronts_along_sight.xyz");
   ASSERT_EQ(points.size(), 139u);
+  // One piece the hatchback's, one the SUV's.
   const auto oneCarEach = [](const std::vector<ObjectView>& pieces) {
-    int hatchback = 0, suv = 0;
-    for (const ObjectView& piece : pieces) {
-      double low = 1e9, high = -1e9;
-      for (const Eigen::Vector3d& p : piece.points) {
-        low = std::min(low, p.x()), high = std::max(high, p.x());
-      }
-      hatchback += high < 5.0;
-      suv += low > 5.3;
-    }
-    return hatchback == 1 && suv == 1;
+    return piecesEitherSide(pieces, 5.0, 5.3) == std::make_pair(1, 1);
   };
   const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
   EXPECT_EQ(pieces.size(), 2u);
@@ -210,17 +197,7 @@ TEST(VehicleSplitTest, TwoStaggeredFrontsAreCutAlongTheirOwnEdges) {
   ASSERT_EQ(points.size(), 315u);
   const std::vector<ObjectView> pieces = splitVehicles(viewOf(points), VehicleSplitConfig());
   ASSERT_EQ(pieces.size(), 2u);
-  int jeep = 0, suv = 0;
-  for (const ObjectView& piece : pieces) {
-    double low = 1e9, high = -1e9;
-    for (const Eigen::Vector3d& p : piece.points) {
-      low = std::min(low, p.x()), high = std::max(high, p.x());
-    }
-    jeep += high < 7.5;
-    suv += low > 7.8;
-  }
-  EXPECT_EQ(jeep, 1);
-  EXPECT_EQ(suv, 1);
+  EXPECT_EQ(piecesEitherSide(pieces, 7.5, 7.8), std::make_pair(1, 1));  // Jeep, SUV
   // Without looking along its edges, the footprint is one car's.
   VehicleSplitConfig minimum_area_only;
   minimum_area_only.edges_min_width = 0.0;

@@ -2,6 +2,7 @@
 // boxes.
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -55,6 +56,24 @@ class FitCuboidsFolderTest : public TemporaryFolderTest {
                     "," +
                     detectionJson(138, "Decoy", R"({"x": -20.0, "y": 5.0, "z": -0.98})",
                                   R"({"x": 4.5, "y": 1.8, "z": 1.5})")));
+  }
+
+  // root_/drive/pcd: `frames` clouds 0.1 s apart (stamps from the names) of the car driving
+  // along its heading at 10 m/s; frame k holds the cars `seen(k, car)` gives for the car
+  // there then. Their stamps.
+  std::vector<std::string> writeDrive(
+      int frames,
+      const std::function<std::vector<StandingBox>(int, const StandingBox&)>& seen) const {
+    fs::create_directories(root_ / "drive" / "pcd");
+    const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
+    std::vector<std::string> stamps;
+    for (int k = 0; k < frames; ++k) {
+      StandingBox car = car_;
+      car.centre += 1.0 * k * heading;
+      stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
+      writePcdBinary(root_ / "drive" / "pcd" / (stamps.back() + ".pcd"), scene(seen(k, car)));
+    }
+    return stamps;
   }
 
   // The road and the faces of the cars the sensor sees.
@@ -234,18 +253,12 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
   // 10 m/s, and in frame 3 a parked car that is gone in frame 4. The car's track is born in
   // frame 2 and written from frame 0 on; the parked car's never is.
   const fs::path drive = root_ / "drive";
-  fs::create_directories(drive / "pcd");
   const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
   StandingBox parked;
   parked.centre = {-12.0, -6.0};
-  std::vector<std::string> stamps;
-  for (int k = 0; k < 5; ++k) {
-    StandingBox car = car_;
-    car.centre += 1.0 * k * heading;
-    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
-    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"),
-                   k == 3 ? scene({car, parked}) : scene({car}));
-  }
+  const std::vector<std::string> stamps = writeDrive(5, [&](int k, const StandingBox& car) {
+    return k == 3 ? std::vector<StandingBox>{car, parked} : std::vector<StandingBox>{car};
+  });
   FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
   tracked.tracking = TrackingConfig();
   tracked.tracking->birth_hits = 3;
@@ -287,15 +300,10 @@ TEST_F(FitCuboidsFolderTest, AFrameATrackCoastedThroughIsBridged) {
   // in frame 4: with bridge_frames 1 frame 4 is written with the track's cuboid halfway
   // between frames 3 and 5 (the car's place then, 4 m on), with 0 it holds none.
   const fs::path drive = root_ / "drive";
-  fs::create_directories(drive / "pcd");
   const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
-  std::vector<std::string> stamps;
-  for (int k = 0; k < 7; ++k) {
-    StandingBox car = car_;
-    car.centre += 1.0 * k * heading;
-    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
-    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"), k == 4 ? scene({}) : scene({car}));
-  }
+  const std::vector<std::string> stamps = writeDrive(7, [](int k, const StandingBox& car) {
+    return k == 4 ? std::vector<StandingBox>{} : std::vector<StandingBox>{car};
+  });
   const auto run = [&](std::size_t bridge_frames, const std::string& out) {
     FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
     tracked.tracking = TrackingConfig();
@@ -330,20 +338,14 @@ TEST_F(FitCuboidsFolderTest, ATracksFramesBeforeAnEndedRunAreWrittenWithBackfill
   // track is born in frame 5. With backfill_gap 1 it is written in frames 0, 1 and 3-6, with
   // 0 in frames 3-6 only; the parked car is written in no frame.
   const fs::path drive = root_ / "drive";
-  fs::create_directories(drive / "pcd");
-  const Eigen::Vector2d heading(std::cos(car_.yaw), std::sin(car_.yaw));
   StandingBox parked;
   parked.centre = {-12.0, -6.0};
-  std::vector<std::string> stamps;
-  for (int k = 0; k < 7; ++k) {
-    StandingBox car = car_;
-    car.centre += 1.0 * k * heading;
+  const std::vector<std::string> stamps = writeDrive(7, [&](int k, const StandingBox& car) {
     std::vector<StandingBox> seen;
     if (k != 2) seen.push_back(car);
     if (k < 2) seen.push_back(parked);
-    stamps.push_back(std::to_string(1586102742000000000LL + 100000000LL * k));
-    writePcdBinary(drive / "pcd" / (stamps.back() + ".pcd"), scene(seen));
-  }
+    return seen;
+  });
   const auto written = [&](std::size_t backfill_gap, const std::string& out) {
     FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
     tracked.tracking = TrackingConfig();

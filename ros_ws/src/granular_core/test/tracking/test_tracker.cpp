@@ -199,6 +199,33 @@ TEST(TrackerTest, ATrackIsBornWithItsObservationsOfTheFramesBefore) {
   EXPECT_EQ(earlier_b, (std::vector<Earlier>{{{2, 0}, {1, 0}}, {}}));      // born in frame 3
 }
 
+// A car driving along x at 2 m/s, seen in the frames of `seen` among `frames`: per frame the
+// first track's id (0: none out), the tracker's tentativeReach(), and the last earlier
+// observations a track out named.
+struct CarSeenIn {
+  std::vector<std::uint32_t> ids;
+  std::vector<std::size_t> reach;
+  std::vector<EarlierObservation> earlier;
+};
+
+CarSeenIn trackCarSeenIn(const TrackingConfig& config, int frames, const std::vector<int>& seen) {
+  Tracker tracker(config);
+  CarSeenIn run;
+  for (int k = 0; k < frames; ++k) {
+    std::vector<Observation> frame;
+    if (std::find(seen.begin(), seen.end(), k) != seen.end()) {
+      frame.push_back(car(10.0 + 0.2 * k, 4.0));
+    }
+    const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
+    run.ids.push_back(tracks.empty() ? 0 : tracks[0].id);
+    run.reach.push_back(tracker.tentativeReach());
+    if (!tracks.empty() && !tracks[0].earlier_observations.empty()) {
+      run.earlier = tracks[0].earlier_observations;
+    }
+  }
+  return run;
+}
+
 TEST(TrackerTest, ATentativeTrackMayMissBirthMissesFramesBeforeItsBirth) {
   // A car seen in frames 0, 1 and 3 (its segment lost in frame 2): with birth_misses 1 it is
   // born in frame 3, naming its cuboids of frames 0 and 1; with 0 its track restarts in frame
@@ -206,28 +233,14 @@ TEST(TrackerTest, ATentativeTrackMayMissBirthMissesFramesBeforeItsBirth) {
   const auto run = [](std::size_t birth_misses, const std::vector<int>& seen) {
     TrackingConfig config = threeHits();
     config.birth_misses = birth_misses;
-    Tracker tracker(config);
-    std::vector<std::uint32_t> ids;
-    std::vector<EarlierObservation> earlier;
-    for (int k = 0; k < 7; ++k) {
-      std::vector<Observation> frame;
-      if (std::find(seen.begin(), seen.end(), k) != seen.end()) {
-        frame.push_back(car(10.0 + 0.2 * k, 4.0));
-      }
-      const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
-      ids.push_back(tracks.empty() ? 0 : tracks[0].id);
-      if (!tracks.empty() && !tracks[0].earlier_observations.empty()) {
-        earlier = tracks[0].earlier_observations;
-      }
-    }
-    return std::make_pair(ids, earlier);
+    return trackCarSeenIn(config, 7, seen);
   };
   const std::vector<int> lost_once = {0, 1, 3, 4, 5, 6};
-  const auto [ids, earlier] = run(1, lost_once);
-  EXPECT_EQ(ids, (std::vector<std::uint32_t>{0, 0, 0, 1, 1, 1, 1}));
-  EXPECT_EQ(earlier, (std::vector<EarlierObservation>{{3, 0}, {2, 0}}));
-  EXPECT_EQ(run(0, lost_once).first, (std::vector<std::uint32_t>{0, 0, 0, 0, 0, 1, 1}));
-  EXPECT_EQ(run(1, {0, 2, 4, 6}).first, (std::vector<std::uint32_t>(7, 0)));
+  const CarSeenIn missed = run(1, lost_once);
+  EXPECT_EQ(missed.ids, (std::vector<std::uint32_t>{0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(missed.earlier, (std::vector<EarlierObservation>{{3, 0}, {2, 0}}));
+  EXPECT_EQ(run(0, lost_once).ids, (std::vector<std::uint32_t>{0, 0, 0, 0, 0, 1, 1}));
+  EXPECT_EQ(run(1, {0, 2, 4, 6}).ids, (std::vector<std::uint32_t>(7, 0)));
 }
 
 TEST(TrackerTest, ATrackBornAfterItsFirstRunEndedNamesThatRunsFramesWithBackfillGap) {
@@ -239,23 +252,8 @@ TEST(TrackerTest, ATrackBornAfterItsFirstRunEndedNamesThatRunsFramesWithBackfill
   const auto run = [](std::size_t backfill_gap, const std::vector<int>& seen) {
     TrackingConfig config = threeHits();
     config.backfill_gap = backfill_gap;
-    Tracker tracker(config);
-    std::vector<std::uint32_t> ids;
-    std::vector<std::size_t> reach;
-    std::vector<EarlierObservation> earlier;
-    for (int k = 0; k < 8; ++k) {
-      std::vector<Observation> frame;
-      if (std::find(seen.begin(), seen.end(), k) != seen.end()) {
-        frame.push_back(car(10.0 + 0.2 * k, 4.0));
-      }
-      const std::vector<Track> tracks = tracker.update(k * kPeriod, frame);
-      ids.push_back(tracks.empty() ? 0 : tracks[0].id);
-      reach.push_back(tracker.tentativeReach());
-      if (!tracks.empty() && !tracks[0].earlier_observations.empty()) {
-        earlier = tracks[0].earlier_observations;
-      }
-    }
-    return std::make_tuple(ids, earlier, reach);
+    const CarSeenIn tracked = trackCarSeenIn(config, 8, seen);
+    return std::make_tuple(tracked.ids, tracked.earlier, tracked.reach);
   };
   const std::vector<int> lost_once = {0, 1, 3, 4, 5, 6, 7};
   const std::vector<std::uint32_t> born_in_5 = {0, 0, 0, 0, 0, 1, 1, 1};

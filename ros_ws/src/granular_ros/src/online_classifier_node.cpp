@@ -59,6 +59,7 @@ struct OnlineClassifierParameters {
   double report_interval = 10.0;
   double marker_lifetime = 0.5;
   bool marker_tracks = false;
+  bool face_away = false;
   bool track_vote = true;
   double track_forget = 2.0;
 
@@ -81,6 +82,7 @@ struct OnlineClassifierParameters {
     visit("report_interval", self.report_interval, positive("s"));
     visit("marker_lifetime", self.marker_lifetime, nonNegative("s"));
     visit("marker_tracks", self.marker_tracks);
+    visit("face_away", self.face_away);
     visit("track_vote", self.track_vote);
     visit("track_forget", self.track_forget, positive("s"));
   }
@@ -143,6 +145,7 @@ class OnlineClassifier {
         min_points_(parameters.min_points),
         marker_lifetime_(parameters.marker_lifetime),
         marker_tracks_(parameters.marker_tracks),
+        face_away_(parameters.face_away),
         track_votes_(parameters.track_vote
                          ? std::optional<granular::TrackVotes>(parameters.track_forget)
                          : std::nullopt),
@@ -201,8 +204,13 @@ class OnlineClassifier {
     if (!inCloudFrame(output, cloud_message->header)) {
       return;
     }
-    granular::FrameExtraction extraction =
-        granular::extractObjects(cloud, granular_ros::toDetections(output), extraction_);
+    std::vector<granular::Detection> boxes = granular_ros::toDetections(output);
+    if (face_away_) {
+      for (granular::Detection& box : boxes) {
+        box = granular::facingAwayFromSensor(std::move(box));
+      }
+    }
+    granular::FrameExtraction extraction = granular::extractObjects(cloud, boxes, extraction_);
     for (const std::string& error : extraction.errors) {
       ROS_WARN_STREAM_THROTTLE(10.0, "online_classifier: " << error);
     }
@@ -334,6 +342,7 @@ class OnlineClassifier {
   std::size_t min_points_;
   double marker_lifetime_;
   bool marker_tracks_;
+  bool face_away_;
   // One vote per frame per detection id (~track_vote); unset: each frame's own label.
   std::optional<granular::TrackVotes> track_votes_;
   double topic_timeout_;

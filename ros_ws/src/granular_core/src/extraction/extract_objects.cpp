@@ -217,6 +217,15 @@ Cloud FrameCropper::crop(const OrientedBox& box, const Eigen::Vector3d& padding)
   return object;
 }
 
+Detection facingAwayFromSensor(Detection detection) {
+  const Eigen::Vector3d axis = detection.orientation * Eigen::Vector3d::UnitX();
+  if (axis.head<2>().dot(detection.centre.head<2>()) < 0.0) {
+    const Eigen::Quaterniond half_turn(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+    detection.orientation = detection.orientation * half_turn;
+  }
+  return detection;
+}
+
 std::string detectionName(const Detection& detection, std::size_t index) {
   return "detections[" + std::to_string(index) + "] (id " + std::to_string(detection.id) + ", " +
          detection.label + ")";

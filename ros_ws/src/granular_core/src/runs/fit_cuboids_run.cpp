@@ -121,19 +121,6 @@ void trackFrame(Tracker& tracker, const TrackingConfig& config, const fs::path& 
   }
 }
 
-// The cuboid's box with its x axis pointing away from the sensor: the fit knows a heading modulo
-// 180 degrees only, and label_box_free turns the training objects by the same rule, so that
-// the classifier sees every object from the same side of its frame.
-OrientedBox facingAway(const Detection& cuboid) {
-  const Eigen::Vector3d axis = cuboid.orientation * Eigen::Vector3d::UnitX();
-  if (axis.head<2>().dot(cuboid.centre.head<2>()) >= 0.0) {
-    return OrientedBox(cuboid.centre, cuboid.orientation, cuboid.size);
-  }
-  const Eigen::Quaterniond turned =
-      cuboid.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
-  return OrientedBox(cuboid.centre, turned, cuboid.size);
-}
-
 // The namer's class for each cuboid of a frame, and for its observation: the frame's points in
 // the cuboid, in its object frame, cropped as extractObjects crops a given box, so that box-free
 // objects reach the classifier as given ones do. Returns how many it could not classify.
@@ -143,7 +130,8 @@ std::size_t nameCuboids(const ObjectClassifier& namer, const FrameCropper& frame
   std::vector<Cloud> objects;
   objects.reserve(cuboids.size());
   for (const Detection& cuboid : cuboids) {
-    objects.push_back(frame.crop(facingAway(cuboid), padding));
+    const Detection away = facingAwayFromSensor(cuboid);
+    objects.push_back(frame.crop(OrientedBox(away.centre, away.orientation, away.size), padding));
   }
   const std::vector<ObjectPrediction> predictions = namer.classify(objects);
   std::size_t not_named = 0;

@@ -236,6 +236,33 @@ TEST_F(TiltedBoxTest, LabelFilterKeepsPerLabelIndices) {
   EXPECT_EQ(all.objects[2].label_index, 2u);
 }
 
+// A box-free cuboid's heading is known modulo 180 degrees: fitted either way round, the car's
+// end away from the sensor must come out at the object frame's front (+x), on either side of
+// the sensor, or a classifier that learnt objects so turned sees half of them reversed.
+TEST(FacingAwayFromSensorTest, CropsACuboidFittedEitherWayRoundWithItsFarEndInFront) {
+  for (const double side : {1.0, -1.0}) {  // ahead of the sensor, then behind it
+    const Eigen::Vector3d centre(side * 10.0, 3.0, -1.0);
+    const Eigen::Vector3d along = Eigen::Vector3d::UnitX();  // the car's length axis
+    Cloud cloud;
+    cloud.push_back(makePoint(centre + side * 2.0 * along, 1, 0.0));  // far end
+    cloud.push_back(makePoint(centre - side * 2.0 * along, 2, 0.0));  // near end
+    for (const double yaw : {0.0, M_PI}) {
+      SCOPED_TRACE("side " + std::to_string(side) + ", yaw " + std::to_string(yaw));
+      const Detection fitted = makeDetection("unknown", centre, yawPitchRoll(yaw, 0.0, 0.0),
+                                             Eigen::Vector3d(4.5, 1.9, 1.5));
+      const Detection away = facingAwayFromSensor(fitted);
+      EXPECT_EQ(away.centre, fitted.centre);
+      EXPECT_EQ(away.size, fitted.size);
+      const FrameExtraction result = extractObjects(cloud, {away}, ExtractionConfig());
+      ASSERT_EQ(result.objects.size(), 1u);
+      ASSERT_EQ(result.objects[0].cloud.size(), 2u);
+      EXPECT_EQ(result.objects[0].cloud[0].intensity, 1);
+      EXPECT_NEAR(result.objects[0].cloud[0].x, 2.0, kTolerance);
+      EXPECT_NEAR(result.objects[0].cloud[1].x, -2.0, kTolerance);
+    }
+  }
+}
+
 TEST(FrameCropperTest, CropsTheSamePointsInTheSameOrderAsTheWholeCloudScan) {
   // A street-sized cloud with non-finite points and a far stray one, and boxes of every
   // orientation and size, some padded, some off the cloud or on cell borders: each crop must

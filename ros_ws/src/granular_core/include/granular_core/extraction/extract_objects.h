@@ -29,6 +29,12 @@ std::optional<OrientedBox> detectionBox(const Detection& detection, std::size_t 
 std::optional<OrientedBox> plausibleDetectionBox(const Detection& detection, std::size_t index,
                                                  double max_box_size, std::string& problem);
 
+/// `detection` turned half a turn about its z axis where its x axis points towards the sensor
+/// (the origin), as it is otherwise: a box-free cuboid's heading is known modulo 180 degrees
+/// only, and label_box_free turns the training objects by this rule, so that a classifier
+/// learnt from them sees every object from the same side of its frame.
+Detection facingAwayFromSensor(Detection detection);
+
 /// The points of one detection, moved into its object frame.
 struct ExtractedObject {
   Detection detection;

@@ -30,9 +30,9 @@ std::optional<OrientedBox> plausibleDetectionBox(const Detection& detection, std
                                                  double max_box_size, std::string& problem);
 
 /// `detection` turned half a turn about its z axis where its x axis points towards the sensor
-/// (the origin), as it is otherwise: a box-free cuboid's heading is known modulo 180 degrees
-/// only, and label_box_free turns the training objects by this rule, so that a classifier
-/// learnt from them sees every object from the same side of its frame.
+/// (the origin), unchanged where it points away: a box-free cuboid's heading is known modulo
+/// 180 degrees only, and label_box_free turns the training objects by this rule, so that a
+/// classifier learnt from them sees every object from the same side of its frame.
 Detection facingAwayFromSensor(Detection detection);
 
 /// The points of one detection, moved into its object frame.

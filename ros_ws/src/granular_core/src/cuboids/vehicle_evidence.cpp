@@ -182,11 +182,16 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   };
 
   // Bins across it without a body return are gaps, unless something nearer hides its body
-  // there (a car parked behind another shows only its roof).
+  // there (a car parked behind another shows only its roof), or the bin is an outermost one:
+  // a sparse sensor's bins are wide, and a car's outermost may hold only its mirror or its
+  // cabin's edge.
   std::size_t bins_seen = 0;
   for (long bin = bin_min; bin <= bin_max; ++bin) {
     if (spans[static_cast<std::size_t>(bin - bin_min)].body > 0) {
       ++bins_seen;
+      continue;
+    }
+    if (bin == bin_min || bin == bin_max) {
       continue;
     }
     const std::size_t frame_bin = frameBin(bin);

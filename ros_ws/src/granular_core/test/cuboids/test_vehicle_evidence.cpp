@@ -215,6 +215,53 @@ TEST(VehicleEvidenceTest, ALongHedgeBehindAParkedCarIsNoTruck) {
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
+// Columns of returns 20 m ahead, one per azimuth (deg) of a sensor with a 1 degree step, each
+// at the heights (m above the road) of its pair.
+Cloud columns(const std::vector<std::pair<double, std::vector<double>>>& returns) {
+  Cloud cloud;
+  for (const auto& [azimuth_deg, heights] : returns) {
+    const double azimuth = azimuth_deg * M_PI / 180.0;
+    for (const double height : heights) {
+      cloud.push_back(PointXYZIT(20.0f, static_cast<float>(20.0 * std::tan(azimuth)),
+                                 static_cast<float>(height - kSensorHeight), 0, 0.0));
+    }
+  }
+  return cloud;
+}
+
+TEST(VehicleEvidenceTest, AnOutermostBinWithoutBodyReturnsIsNoGap) {
+  // A sparse sensor's bins are wide (1 degree step: 2 degrees), so a car's outermost bin may
+  // hold only what stands beside its body above the body band (a mirror, the cabin's edge):
+  // that is no gap. Between returns in the band, a bin without one is (a fence's rails).
+  constexpr double kStepDeg = 1.0;
+  const std::vector<double> body{0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4};
+  const std::vector<double> above_band{1.1, 1.2};
+  // The rear of a car 1.75 m wide, in the bins of -4 to 2 degrees, and its mirror in the next.
+  const Cloud car = columns({{-3.5, body}, {-2.5, body}, {-1.5, body}, {-0.5, body},
+                             {0.5, body}, {1.5, body}, {2.5, above_band}, {3.5, above_band}});
+  const Cloud fence = columns({{-3.5, body}, {-2.5, body}, {-1.5, above_band},
+                               {-0.5, above_band}, {0.5, body}, {1.5, body}});
+  const OrientedBox cuboid(Eigen::Vector3d(22.25, -0.2, 0.75 - kSensorHeight),
+                           Eigen::Quaterniond::Identity(), Eigen::Vector3d(4.5, 1.8, 1.5));
+  const auto judged = [&](const Cloud& cloud, double& fill) {
+    std::vector<Eigen::Vector3d> points;
+    for (const PointXYZIT& p : cloud) {
+      points.emplace_back(p.x, p.y, p.z);
+    }
+    const VehicleEvidence evidence(cloud, flatRoad(), VehicleEvidenceConfig(), kStepDeg);
+    const VehicleCues cues = evidence.measure(points, cuboid);
+    fill = cues.fill;
+    return evidence.judge(cues);
+  };
+  double fill = 0.0;
+  const VehicleVerdict car_verdict = judged(car, fill);
+  EXPECT_EQ(fill, 1.0);  // three bins with body returns of three; the mirror's not counted
+  EXPECT_EQ(car_verdict, VehicleVerdict::kVehicle) << verdictName(car_verdict);
+  const VehicleVerdict fence_verdict = judged(fence, fill);
+  EXPECT_NEAR(fill, 2.0 / 3.0, 1e-12);
+  EXPECT_EQ(fence_verdict, VehicleVerdict::kGaps) << verdictName(fence_verdict);
+}
+
 TEST(VehicleEvidenceTest, SmallAndLowThingsAreNoVehicles) {
   const Block post{{9.0, 1.0, -kSensorHeight}, {9.3, 1.3, -kSensorHeight + 1.5}, 0.0};
   VehicleVerdict verdict;

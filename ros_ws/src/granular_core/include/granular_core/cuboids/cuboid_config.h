@@ -239,7 +239,8 @@ struct VehicleEvidenceConfig {
   /// Most of the object's body rays that may pass through it (returns behind / body returns
   /// and those together).
   double max_pass_share = 0.15;
-  /// Least share of the azimuth bins across the object that hold a body return.
+  /// Least share of the azimuth bins across the object that hold a body return (an outermost
+  /// bin without one not counted: a sparse sensor's wide bin may hold only a mirror there).
   double min_fill = 0.85;
   /// The median body return may lie at most max_face_share of the seen width (within
   /// min_face_allowance and max_face_distance, m) from the two faces of the cuboid turned to

@@ -24,7 +24,9 @@ struct VehicleCues {
   /// Of the rays through the body band within the object's azimuth span (its edge bins left
   /// out), the share that returned from behind it.
   double pass_share = 0.0;
-  double fill = 0.0;            ///< share of the azimuth bins across it holding a body return
+  /// Share of the azimuth bins across it holding a body return (an outermost bin without one
+  /// not counted).
+  double fill = 0.0;
   double face_distance = 0.0;   ///< m, median distance of body returns from the seen faces
   /// Share of the tall_bin pieces along the seen side whose lowest return is above
   /// tall_clearance.

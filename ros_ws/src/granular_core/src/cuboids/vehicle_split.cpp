@@ -220,8 +220,13 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
   // where the ground between them was seen, wider than the columns of returns are apart.
   if (may_cut && !cut && config.gap_min_length > 0.0 && rectangle.width <= config.max_width &&
       rectangle.length > config.gap_min_length && rectangle.length <= config.max_length) {
-    const std::optional<Cut> gap = cutAlong(object, points, heights, length_axis, config, 0.0,
-                                            columnSpacing(object, points));
+    std::optional<Cut> gap = cutAlong(object, points, heights, length_axis, config);
+    if (gap && gap->gap) {
+      // The columns' spacing (a sort of the bearings) only fills runs, so it is asked only where
+      // min_gap alone left one.
+      gap = cutAlong(object, points, heights, length_axis, config, 0.0,
+                     columnSpacing(object, points));
+    }
     if (gap && gap->gap && gapSeenEmpty(object, points, *gap)) {
       // Each side a front seen whole, not the sparse far end of one car's side.
       std::size_t near = 0;

@@ -193,7 +193,8 @@ struct VehicleSplitConfig {
   /// bins only: longer than min_gap and than twice the scan's spacing between columns there,
   /// with rays seen to pass through it at body height (FreeSpace), and leaving at least
   /// gap_min_points returns on either side. The fronts of two cars parked side by side seen as
-  /// one face (a car's side shows no such run); 0: off.
+  /// one face (one car seen along its side may show an empty run too, between the rings over
+  /// its roof or in the sparse far part of its side: hence the two tests); 0: off.
   double gap_min_length = 3.6;
   std::size_t gap_min_points = 50;  ///< points on either side of such a cut, at the least
 

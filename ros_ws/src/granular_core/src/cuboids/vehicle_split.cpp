@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "granular_core/cuboids/free_space.h"
 #include "granular_core/geometry/footprint.h"
 #include "levelled_object.h"
 
@@ -30,7 +31,8 @@ struct Cut {
 // above its road.
 std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::size_t>& points,
                             const std::vector<double>& heights, const Eigen::Vector2d& axis,
-                            const VehicleSplitConfig& config, double min_extent = 0.0) {
+                            const VehicleSplitConfig& config, double min_extent = 0.0,
+                            double min_gap = 0.0) {
   std::vector<double> along(points.size());
   double from = 1e9, to = -1e9;
   for (std::size_t k = 0; k < points.size(); ++k) {
@@ -51,9 +53,11 @@ std::optional<Cut> cutAlong(const ObjectView& object, const std::vector<std::siz
       top[bin] = std::max(top[bin], height);
     }
   }
-  // A run of empty bins shorter than min_gap is the spacing of the scan's returns, not a gap
-  // between two bodies: it takes the lower of the tops beside it.
-  const auto shortest_gap = static_cast<std::size_t>(std::ceil(config.min_gap / config.bin - 1e-9));
+  // A run of empty bins shorter than min_gap (the config's, or the caller's when longer) is the
+  // spacing of the scan's returns, not a gap between two bodies: it takes the lower of the tops
+  // beside it.
+  const auto shortest_gap = static_cast<std::size_t>(
+      std::ceil(std::max(config.min_gap, min_gap) / config.bin - 1e-9));
   for (std::size_t bin = 0; bin < bins;) {
     if (seen[bin]) {
       ++bin;
@@ -110,6 +114,43 @@ Rectangle lshapeFootprint(const ObjectView& object, const std::vector<std::size_
   rectangle.length = extent[longer];
   rectangle.width = extent[1 - longer];
   return rectangle;
+}
+
+// m: twice the spacing between the columns of returns of `points` at their range
+// (cuboids::acrossShortfall).
+double columnSpacing(const ObjectView& object, const std::vector<std::size_t>& points) {
+  cuboids::LevelledObject seen;
+  seen.sensor = object.sensor.head<2>();
+  seen.range = 1e9;
+  for (const std::size_t i : points) {
+    seen.points.push_back(object.points[i]);
+    seen.range = std::min(seen.range, (object.points[i].head<2>() - seen.sensor).norm());
+  }
+  return cuboids::acrossShortfall(seen);
+}
+
+// Whether the scan saw rays pass through the gap of `cut` at body height, somewhere across the
+// points (not within `kEdge` of their ends): the ground between two bodies, not the spacing of
+// the rings over one roof, which lies behind the face nearer the sensor.
+bool gapSeenEmpty(const ObjectView& object, const std::vector<std::size_t>& points,
+                  const Cut& cut) {
+  if (object.free_space == nullptr) {
+    return false;
+  }
+  constexpr double kEdge = 0.1, kStep = 0.1;  // m
+  const Eigen::Vector2d across(-cut.axis.y(), cut.axis.x());
+  double from = 1e9, to = -1e9;
+  for (const std::size_t i : points) {
+    const double v = object.points[i].head<2>().dot(across);
+    from = std::min(from, v), to = std::max(to, v);
+  }
+  for (double v = from + kEdge; v <= to - kEdge; v += kStep) {
+    const Eigen::Vector2d place = cut.at * cut.axis + v * across;
+    if (object.free_space->seenEmpty({place.x(), place.y(), 0.0})) {
+      return true;
+    }
+  }
+  return false;
 }
 
 void split(const ObjectView& object, std::vector<std::size_t> points,
@@ -172,6 +213,28 @@ void split(const ObjectView& object, std::vector<std::size_t> points,
         if (found && (any_valley || found->gap) && (!cut || found->drop > cut->drop)) {
           cut = found;
         }
+      }
+    }
+  }
+  // One face of two bodies (two fronts side by side) is no wider than a car: it parts only
+  // where the ground between them was seen, wider than the columns of returns are apart.
+  if (may_cut && !cut && config.gap_min_length > 0.0 && rectangle.width <= config.max_width &&
+      rectangle.length > config.gap_min_length && rectangle.length <= config.max_length) {
+    std::optional<Cut> gap = cutAlong(object, points, heights, length_axis, config);
+    if (gap && gap->gap) {
+      // The columns' spacing (a sort of the bearings) only fills runs, so it is asked only where
+      // min_gap alone left one.
+      gap = cutAlong(object, points, heights, length_axis, config, 0.0,
+                     columnSpacing(object, points));
+    }
+    if (gap && gap->gap && gapSeenEmpty(object, points, *gap)) {
+      // Each side a front seen whole, not the sparse far end of one car's side.
+      std::size_t near = 0;
+      for (const std::size_t i : points) {
+        near += object.points[i].head<2>().dot(gap->axis) < gap->at ? 1 : 0;
+      }
+      if (std::min(near, points.size() - near) >= config.gap_min_points) {
+        cut = gap;
       }
     }
   }

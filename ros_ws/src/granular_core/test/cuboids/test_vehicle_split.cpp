@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "granular_core/cuboids/free_space.h"
 #include "granular_core/cuboids/vehicle_split.h"
 
 namespace granular {
@@ -215,6 +216,56 @@ TEST(VehicleSplitTest, TheSpacingBetweenASparseScansColumnsIsNoGap) {
   VehicleSplitConfig every_empty_bin;
   every_empty_bin.min_gap = 0.0;
   EXPECT_GT(splitVehicles(viewOf(car), every_empty_bin).size(), 1u);
+}
+
+TEST(VehicleSplitTest, TwoFrontsSeenAsOneFaceArePartedWhereRaysPassBetweenThem) {
+  // From the aisle 8 m away a mast sees the fronts of two cars parked 0.5 m apart as one face,
+  // 4.1 m along the row and 0.3 m deep (to their bonnets' edges): no wider than a car, shorter
+  // than two nose to tail, as high at their corners as anywhere.
+  std::vector<Eigen::Vector3d> points;
+  const auto addFront = [&](double from, double to) {
+    for (double y = from; y <= to + 1e-9; y += 0.1) {
+      for (double h = 0.3; h <= 1.0 + 1e-9; h += 0.1) {
+        points.emplace_back(8.0, y, -kSensorHeight + h);
+      }
+      points.emplace_back(8.3, y, -kSensorHeight + 1.0);
+    }
+  };
+  addFront(-2.05, -0.25);
+  const std::size_t first = points.size();
+  addFront(0.25, 2.05);
+  // The scan: the fronts, and through the gap between them a car's side 6 m further.
+  Cloud cloud;
+  for (const Eigen::Vector3d& p : points) {
+    cloud.push_back(PointXYZIT(float(p.x()), float(p.y()), float(p.z()), 0.0f, 0.0));
+  }
+  Cloud fronts_only = cloud;
+  for (double y = -0.3; y <= 0.3 + 1e-9; y += 0.05) {
+    cloud.push_back(PointXYZIT(14.0f, float(y), float(-kSensorHeight + 0.8), 0.0f, 0.0));
+  }
+  GroundPlane road;
+  road.offset = kSensorHeight;
+  const FreeSpace scan(cloud, road, FreeSpaceConfig());
+  ObjectView view = viewOf(points);
+  view.free_space = &scan;
+  const std::vector<ObjectView> pieces = splitVehicles(view, VehicleSplitConfig());
+  ASSERT_EQ(pieces.size(), 2u);
+  std::vector<std::size_t> sizes{pieces[0].points.size(), pieces[1].points.size()};
+  std::sort(sizes.begin(), sizes.end());
+  EXPECT_EQ(sizes[0], first);
+  EXPECT_EQ(sizes[1], points.size() - first);
+  // One face without the rule, where no ray was seen to pass between them, or with fewer
+  // returns on a side than gap_min_points.
+  VehicleSplitConfig off;
+  off.gap_min_length = 0.0;
+  EXPECT_EQ(splitVehicles(view, off).size(), 1u);
+  const FreeSpace blind(fronts_only, road, FreeSpaceConfig());
+  view.free_space = &blind;
+  EXPECT_EQ(splitVehicles(view, VehicleSplitConfig()).size(), 1u);
+  view.free_space = &scan;
+  VehicleSplitConfig more_points;
+  more_points.gap_min_points = first + 1;
+  EXPECT_EQ(splitVehicles(view, more_points).size(), 1u);
 }
 
 TEST(VehicleSplitTest, OneCarOrATallerObjectIsLeftWhole) {

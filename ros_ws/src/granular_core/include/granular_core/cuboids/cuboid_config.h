@@ -188,6 +188,15 @@ struct VehicleSplitConfig {
   /// that rectangle's axes, not its minimum-area rectangle's (the L-shapes of cars seen in part
   /// make minimum-area rectangles turned across them); 0: off.
   double edges_min_width = 2.3;
+  /// m: a footprint no wider than a car (max_width), longer than this and no longer than
+  /// max_length, where no valley was found above, is cut along its length at a run of empty
+  /// bins only: longer than min_gap and than twice the scan's spacing between columns there,
+  /// with rays seen to pass through it at body height (FreeSpace), and leaving at least
+  /// gap_min_points returns on either side. The fronts of two cars parked side by side seen as
+  /// one face (one car seen along its side may show an empty run too, between the rings over
+  /// its roof or in the sparse far part of its side: hence the two tests); 0: off.
+  double gap_min_length = 3.6;
+  std::size_t gap_min_points = 50;  ///< points on either side of such a cut, at the least
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -206,6 +215,8 @@ struct VehicleSplitConfig {
     visit("search_step_deg", self.search_step_deg, interval(0.0, 90.0, "deg"));
     visit("search_min_width", self.search_min_width, positive("m"));
     visit("edges_min_width", self.edges_min_width, nonNegative("m"));
+    visit("gap_min_length", self.gap_min_length, nonNegative("m"));
+    visit("gap_min_points", self.gap_min_points, nonNegative("points"));
   }
 };
 

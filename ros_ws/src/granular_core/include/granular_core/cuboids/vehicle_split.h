@@ -17,8 +17,11 @@ namespace granular {
 /// `min_drop` below the tops on both sides, and the pieces are cut again while they still
 /// exceed one car. A footprint whose rectangle along its L-shape's edges (`lshape`) is wider
 /// than `edges_min_width` is cut along that rectangle's axes instead (cars seen in part show
-/// L-shapes whose minimum-area rectangle lies across them). Each piece keeps the object's
-/// ground, height cap, sensor and free space.
+/// L-shapes whose minimum-area rectangle lies across them). A footprint no wider than one car
+/// but longer than `gap_min_length` (the fronts of two cars side by side) is cut along its
+/// length only at empty ground: a run of empty bins wider than the scan's columns are apart,
+/// through which the object's free space saw rays pass. Each piece keeps the object's ground,
+/// height cap, sensor and free space.
 std::vector<ObjectView> splitVehicles(const ObjectView& object, const VehicleSplitConfig& config,
                                       const LShapeConfig& lshape = LShapeConfig());
 

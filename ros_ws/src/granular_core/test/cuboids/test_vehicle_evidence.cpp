@@ -39,9 +39,11 @@ std::vector<Block> car() {
           {{10.2, 1.15, -kSensorHeight + 1.0}, {12.4, 2.65, -kSensorHeight + 1.5}, 0.0}};
 }
 
-// The returns inside `bounds` (above the road) and the cuboid it is.
+// The returns inside `bounds` (above the road) and the cuboid it is, for a sensor with
+// `azimuth_step_deg` between returns.
 VehicleCues measured(const Cloud& cloud, const Block& bounds, VehicleVerdict& verdict,
-                     const VehicleEvidenceConfig& config = VehicleEvidenceConfig()) {
+                     const VehicleEvidenceConfig& config = VehicleEvidenceConfig(),
+                     double azimuth_step_deg = kAzimuthStepDeg) {
   std::vector<Eigen::Vector3d> points;
   for (const PointXYZIT& p : cloud) {
     const Eigen::Vector3d point(p.x, p.y, p.z);
@@ -53,7 +55,7 @@ VehicleCues measured(const Cloud& cloud, const Block& bounds, VehicleVerdict& ve
   }
   const OrientedBox cuboid((bounds.low + bounds.high) / 2.0, Eigen::Quaterniond::Identity(),
                            bounds.high - bounds.low);
-  const VehicleEvidence evidence(cloud, flatRoad(), config, kAzimuthStepDeg);
+  const VehicleEvidence evidence(cloud, flatRoad(), config, azimuth_step_deg);
   const VehicleCues cues = evidence.measure(points, cuboid);
   verdict = evidence.judge(cues);
   return cues;
@@ -241,25 +243,14 @@ TEST(VehicleEvidenceTest, AnOutermostBinWithoutBodyReturnsIsNoGap) {
                              {0.5, body}, {1.5, body}, {2.5, above_band}, {3.5, above_band}});
   const Cloud fence = columns({{-3.5, body}, {-2.5, body}, {-1.5, above_band},
                                {-0.5, above_band}, {0.5, body}, {1.5, body}});
-  const OrientedBox cuboid(Eigen::Vector3d(22.25, -0.2, 0.75 - kSensorHeight),
-                           Eigen::Quaterniond::Identity(), Eigen::Vector3d(4.5, 1.8, 1.5));
-  const auto judged = [&](const Cloud& cloud, double& fill) {
-    std::vector<Eigen::Vector3d> points;
-    for (const PointXYZIT& p : cloud) {
-      points.emplace_back(p.x, p.y, p.z);
-    }
-    const VehicleEvidence evidence(cloud, flatRoad(), VehicleEvidenceConfig(), kStepDeg);
-    const VehicleCues cues = evidence.measure(points, cuboid);
-    fill = cues.fill;
-    return evidence.judge(cues);
-  };
-  double fill = 0.0;
-  const VehicleVerdict car_verdict = judged(car, fill);
-  EXPECT_EQ(fill, 1.0);  // three bins with body returns of three; the mirror's not counted
-  EXPECT_EQ(car_verdict, VehicleVerdict::kVehicle) << verdictName(car_verdict);
-  const VehicleVerdict fence_verdict = judged(fence, fill);
-  EXPECT_NEAR(fill, 2.0 / 3.0, 1e-12);
-  EXPECT_EQ(fence_verdict, VehicleVerdict::kGaps) << verdictName(fence_verdict);
+  const Block bounds{{20.0, -1.3, -kSensorHeight}, {24.5, 1.3, 1.5 - kSensorHeight}, 0.0};
+  VehicleVerdict verdict;
+  // Three bins with body returns of three; the mirror's not counted.
+  EXPECT_EQ(measured(car, bounds, verdict, VehicleEvidenceConfig(), kStepDeg).fill, 1.0);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+  EXPECT_NEAR(measured(fence, bounds, verdict, VehicleEvidenceConfig(), kStepDeg).fill,
+              2.0 / 3.0, 1e-12);
+  EXPECT_EQ(verdict, VehicleVerdict::kGaps) << verdictName(verdict);
 }
 
 TEST(VehicleEvidenceTest, SmallAndLowThingsAreNoVehicles) {

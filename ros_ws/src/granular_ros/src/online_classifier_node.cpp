@@ -33,6 +33,7 @@
 #include "granular_ros/latency.h"
 #include "granular_ros/markers.h"
 #include "granular_ros/node_parameters.h"
+#include "granular_ros/tool.h"
 #include "granular_ros/presets.h"
 
 namespace {
@@ -385,6 +386,7 @@ int main(int argc, char** argv) {
   if (granular_ros::answerNodeHelp(argc, argv, kHelp)) {
     return 0;
   }
+  granular_ros::reuseFreedMemory();
   ros::init(argc, argv, "online_classifier");
   ros::NodeHandle node;
   ros::NodeHandle private_node("~");

@@ -24,6 +24,7 @@
 #include "granular_ros/conversions.h"
 #include "granular_ros/latency.h"
 #include "granular_ros/node_parameters.h"
+#include "granular_ros/tool.h"
 
 namespace {
 
@@ -261,6 +262,7 @@ int main(int argc, char** argv) {
   if (granular_ros::answerNodeHelp(argc, argv, kHelp)) {
     return 0;
   }
+  granular_ros::reuseFreedMemory();
   ros::init(argc, argv, "segment_cloud");
   ros::NodeHandle node;
   ros::NodeHandle private_node("~");

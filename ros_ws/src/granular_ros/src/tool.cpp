@@ -1,5 +1,6 @@
 #include "granular_ros/tool.h"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <signal.h>
 #include <unistd.h>
@@ -64,6 +65,13 @@ void stopCleanlyOnSignals(const std::string& name) {
   }).detach();
 }
 
+void reuseFreedMemory() {
+  constexpr int kLargestHeapBlock = 32 << 20;  // glibc's largest mmap threshold
+  constexpr int kKeptFreeMemory = 256 << 20;
+  mallopt(M_MMAP_THRESHOLD, kLargestHeapBlock);
+  mallopt(M_TRIM_THRESHOLD, kKeptFreeMemory);
+}
+
 Tool::Tool(std::string name, std::string about, std::string epilogue)
     : name_(std::move(name)), about_(std::move(about)), epilogue_(std::move(epilogue)) {
   options_.help(help_);
@@ -72,6 +80,7 @@ Tool::Tool(std::string name, std::string about, std::string epilogue)
 int Tool::run(int argc, char** argv, const std::function<void()>& configure,
               const std::function<void()>& work) {
   stopCleanlyOnSignals(name_);
+  reuseFreedMemory();
   try {
     options_.parse(argc, argv);
     if (help_) {

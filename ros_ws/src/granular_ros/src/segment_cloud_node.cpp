@@ -172,7 +172,8 @@ class SegmentCloud {
                      lgsvl_msgs::Detection3DArray& output) {
     std::vector<granular::Observation> observations;
     for (const granular::FrameCuboid& kept : cuboids.kept) {
-      observations.push_back({kept.cuboid.box, kept.cuboid.label, kept.cuboid.score});
+      observations.push_back(
+          {kept.cuboid.box, kept.cuboid.label, kept.cuboid.score, kept.cuboid.points});
     }
     std::vector<granular::Track> tracks;
     try {

@@ -364,7 +364,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       cuboid.orientation = kept.cuboid.box.orientation();
       cuboid.size = kept.cuboid.box.size();
       pending_frame.fitted.push_back(cuboid);
-      observations.push_back(Observation{kept.cuboid.box, cuboid.label, cuboid.score});
+      observations.push_back(
+          Observation{kept.cuboid.box, cuboid.label, cuboid.score, kept.cuboid.points});
     }
     if (options.namer != nullptr) {
       summary.not_named += nameCuboids(*options.namer, *cropper, options.naming_padding,

@@ -313,8 +313,19 @@ void Tracker::vote(State& state, const Observation& observation) const {
   if (observation.label == config_.abstain_label) {
     return;
   }
-  state.weights[observation.label] +=
-      config_.vote == ClassVote::kScores ? observation.score : 1.0;
+  double weight = 1.0;
+  switch (config_.vote) {
+    case ClassVote::kPoints:
+      weight = observation.score *
+               static_cast<double>(std::max<std::size_t>(observation.points, 1));
+      break;
+    case ClassVote::kScores:
+      weight = observation.score;
+      break;
+    case ClassVote::kVotes:
+      break;
+  }
+  state.weights[observation.label] += weight;
   state.last_vote[observation.label] = frames_;
 }
 

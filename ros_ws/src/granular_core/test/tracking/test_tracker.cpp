@@ -107,7 +107,7 @@ TEST(TrackerTest, AnObjectMissedForOneFrameKeepsItsId) {
 }
 
 TEST(TrackerTest, ATrackWhoseFramesSaySedanSedanSuvSedanIsASedan) {
-  for (const ClassVote vote : {ClassVote::kScores, ClassVote::kVotes}) {
+  for (const ClassVote vote : {ClassVote::kPoints, ClassVote::kScores, ClassVote::kVotes}) {
     TrackingConfig config = threeHits();
     config.vote = vote;
     config.birth_hits = 1;
@@ -155,6 +155,34 @@ TEST(TrackerTest, TheClassVoteWeighsScoresOrCountsFramesAndUnknownAbstains) {
   EXPECT_EQ(tracker.update(0.1, {car(10, 0, 0, "Jeep")}).at(0).label, "Jeep");
   EXPECT_EQ(tracker.update(0.2, {car(10, 0, 0, "SUV")}).at(0).label, "SUV");
   EXPECT_EQ(tracker.update(0.3, {car(10, 0, 0, "Jeep")}).at(0).label, "Jeep");
+}
+
+TEST(TrackerTest, AVoteByPointsLetsNearFramesOutweighFarSparseOnes) {
+  // A bus coming near: four far frames of 30 points named BoxTruck with confidence, then
+  // three near ones of 200 points named SchoolBus less surely.
+  std::vector<Observation> frames;
+  for (std::size_t k = 0; k < 7; ++k) {
+    const bool near = k >= 4;
+    Observation frame = car(30.0 - 0.5 * static_cast<double>(k), 0.0, 0.0,
+                            near ? "SchoolBus" : "BoxTruck", near ? 0.7 : 1.0);
+    frame.points = near ? 200 : 30;
+    frames.push_back(frame);
+  }
+  const auto decide = [&](ClassVote vote) {
+    TrackingConfig config = threeHits();
+    config.vote = vote;
+    config.birth_hits = 1;
+    Tracker tracker(config);
+    std::vector<Track> tracks;
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      tracks = tracker.update(static_cast<double>(k) * kPeriod, {frames[k]});
+    }
+    return tracks.at(0);
+  };
+  const Track by_points = decide(ClassVote::kPoints);
+  EXPECT_EQ(by_points.label, "SchoolBus");  // 3 x 0.7 x 200 = 420 against 4 x 30 = 120
+  EXPECT_DOUBLE_EQ(by_points.share, 420.0 / 540.0);
+  EXPECT_EQ(decide(ClassVote::kScores).label, "BoxTruck");  // 4.0 against 2.1
 }
 
 TEST(TrackerTest, BirthsAfterThreeHitsAndDeathsAfterThreeMisses) {

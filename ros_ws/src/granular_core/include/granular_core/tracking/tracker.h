@@ -21,6 +21,8 @@ struct Observation {
   OrientedBox box;
   std::string label;
   double score = 1.0;
+  /// The object's points the fit used (0: not counted; weighs as 1 in a vote by points).
+  std::size_t points = 0;
 };
 
 /// A tentative track's observation in a frame before its birth.
@@ -41,7 +43,7 @@ struct Track {
   OrientedBox box;
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  ///< m/s, x-y in the sensor frame
   /// The class its frames decided so far (TrackingConfig::vote; the abstain label until a
-  /// frame votes) and the share of the votes or scores that went to it (0 before any).
+  /// frame votes) and the share of the weight of the votes that went to it (0 before any).
   std::string label;
   double share = 0.0;
   std::size_t hits = 0;    ///< frames with a detection, in all

@@ -11,6 +11,7 @@ namespace granular {
 
 /// How a track's frames decide its class.
 enum class ClassVote {
+  kPoints,  ///< each frame adds its detection's score times its points to its label
   kScores,  ///< each frame adds its detection's score to its label
   kVotes,   ///< each frame adds one to its label
 };
@@ -18,8 +19,10 @@ enum class ClassVote {
 template <>
 struct config::EnumNames<ClassVote> {
   static constexpr const char* what = "class vote";
-  static constexpr std::array<std::pair<ClassVote, const char*>, 2> values{
-      {{ClassVote::kScores, "scores"}, {ClassVote::kVotes, "votes"}}};
+  static constexpr std::array<std::pair<ClassVote, const char*>, 3> values{
+      {{ClassVote::kPoints, "points"},
+       {ClassVote::kScores, "scores"},
+       {ClassVote::kVotes, "votes"}}};
 };
 
 /// Which detection may continue which track: both gates must pass.
@@ -102,7 +105,10 @@ struct TrackingConfig {
   /// (and its id) where a new one would need birth_hits frames in a row (simulated train
   /// drive: MOTA 0.689 with 3, 0.695 with 5 and 6, 0.693 with 8 and 10; docs/tracking.md).
   std::size_t death_misses = 6;
-  ClassVote vote = ClassVote::kScores;
+  /// Points rather than scores: a vehicle first seen far away, its few returns named with
+  /// confidence, kept that class after it came near and showed its own (held-out simulated
+  /// drive, seed 42: class-aware F1 per frame 0.897 with scores, 0.912 with points).
+  ClassVote vote = ClassVote::kPoints;
   /// The label that does not vote (a detection the classifier could not name).
   std::string abstain_label = "unknown";
   /// m/s: from this speed on, a track's yaw points along its velocity (below, the front is

@@ -384,6 +384,14 @@ struct GeometricFitConfig {
   /// have passed under its roof (the HDL-64E's, 2 degrees up, passes 2.7 m above the road 29 m
   /// away, where a 3.3 m box truck then looked nearest the 3.1 m bus).
   double cut_top_above = 2.2;
+  /// Such an object (it may be taller than seen) grown to a prior with a longer one at least as
+  /// tall takes the longer one when at least this many free_space.step steps past its grown
+  /// far end (beyond the first width_tolerance: a vehicle a little longer than its prior), up
+  /// to the longer prior's length, hold a return in the free space's body band across its
+  /// width: a bus cut at the height cap and seen end on, whose side goes on past a box truck's
+  /// length. Seen at a grazing angle, the side's columns of returns stand metres apart (one
+  /// step is evidence). 0: off.
+  std::size_t longer_occupied_steps = 1;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -398,6 +406,7 @@ struct GeometricFitConfig {
     visit("cap_reach", self.cap_reach, nonNegative("m"));
     visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));
     visit("cut_top_above", self.cut_top_above, nonNegative("m"));
+    visit("longer_occupied_steps", self.longer_occupied_steps, nonNegative("steps"));
   }
 };
 

@@ -310,6 +310,12 @@ struct VehicleEvidenceConfig {
   double end_face_band = 0.4;       ///< m below the top
   double end_face_depth = 0.2;      ///< m
   double end_face_min_width = 1.6;  ///< m
+  /// m: a tall object at least min_long_top tall whose face near the top spans
+  /// end_face_min_width (as above) but that was seen longer than end_on_max_length (a truck at
+  /// a slant) must still stand clear of the road, but its body returns may lie this far from a
+  /// flat face instead of tall_max_face_distance: seen from the front, a truck's cab stands
+  /// before its box. 0: tall_max_face_distance for every tall object.
+  double box_face_max_distance = 0.25;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -350,6 +356,7 @@ struct VehicleEvidenceConfig {
     visit("end_face_band", self.end_face_band, positive("m"));
     visit("end_face_depth", self.end_face_depth, nonNegative("m"));
     visit("end_face_min_width", self.end_face_min_width, positive("m"));
+    visit("box_face_max_distance", self.box_face_max_distance, nonNegative("m"));
   }
 };
 

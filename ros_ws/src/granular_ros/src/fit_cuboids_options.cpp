@@ -91,8 +91,10 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
       .flag("--track", track,
             "track the cuboids from frame to frame (docs/tracking.md): only the cuboids of born "
             "tracks are written, each with its track's id, velocity (velocity.linear, m/s, "
-            "sensor frame) and class so far (label, and the share of the votes as score; the "
-            "cuboid's own while no frame voted); the sensor's own motion is not taken out. "
+            "sensor frame) and class (label, and the share of the votes as score: of all the "
+            "track's frames with the config's final_class, the default, else of its frames so "
+            "far; the cuboid's own where no frame voted); the sensor's own motion is not taken "
+            "out. "
             "Without it every cuboid is written, numbered per frame, at rest")
       .value("--tracking-config", tracking_config_file, "FILE",
              "YAML file like config/tracking.yaml (implies --track)")

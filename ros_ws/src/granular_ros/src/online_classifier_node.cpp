@@ -62,6 +62,7 @@ struct OnlineClassifierParameters {
   bool marker_tracks = false;
   bool face_away = false;
   bool track_vote = true;
+  bool track_vote_points = true;
   double track_forget = 2.0;
 
   template <class Self, class Visit>
@@ -85,6 +86,7 @@ struct OnlineClassifierParameters {
     visit("marker_tracks", self.marker_tracks);
     visit("face_away", self.face_away);
     visit("track_vote", self.track_vote);
+    visit("track_vote_points", self.track_vote_points);
     visit("track_forget", self.track_forget, positive("s"));
   }
 };
@@ -150,6 +152,7 @@ class OnlineClassifier {
         track_votes_(parameters.track_vote
                          ? std::optional<granular::TrackVotes>(parameters.track_forget)
                          : std::nullopt),
+        track_vote_points_(parameters.track_vote_points),
         topic_timeout_(parameters.topic_timeout),
         report_interval_(parameters.report_interval),
         tf_listener_(tf_buffer_),
@@ -236,7 +239,10 @@ class OnlineClassifier {
       detection.label = known ? predictions[object->second].label : "unknown";
       detection.score = known ? static_cast<float>(predictions[object->second].score) : 0.0f;
       if (known && track_votes_) {
-        const granular::TrackLabel track = track_votes_->vote(detection.id, detection.label, stamp);
+        const double weight =
+            track_vote_points_ ? static_cast<double>(objects[object->second].size()) : 1.0;
+        const granular::TrackLabel track =
+            track_votes_->vote(detection.id, detection.label, stamp, weight);
         detection.label = track.label;
         detection.score = static_cast<float>(track.share);
       }
@@ -346,6 +352,7 @@ class OnlineClassifier {
   bool face_away_;
   // One vote per frame per detection id (~track_vote); unset: each frame's own label.
   std::optional<granular::TrackVotes> track_votes_;
+  bool track_vote_points_;  // each vote weighs its object's points (~track_vote_points)
   double topic_timeout_;
   double report_interval_;
   tf2_ros::Buffer tf_buffer_;

@@ -132,6 +132,7 @@ TEST(ShippedConfigTest, TrackingYamlStatesTheTrackingDefaults) {
   tracking.vote = granular::ClassVote::kVotes;
   tracking.bridge_frames = 0;
   tracking.backfill_gap = 0;
+  tracking.final_class = false;
   ASSERT_NO_THROW(loadConfigFile(fs::path(GRANULAR_CONFIG_DIR) / "tracking.yaml", tracking));
   EXPECT_NO_THROW(granular::validate(tracking));
   EXPECT_TRUE(tracking == granular::TrackingConfig());

@@ -2,9 +2,11 @@
 
 namespace granular {
 
-TrackLabel TrackVotes::vote(std::int64_t id, const std::string& label, double stamp) {
+TrackLabel TrackVotes::vote(std::int64_t id, const std::string& label, double stamp,
+                            double weight) {
   Track& track = tracks_[id];
-  ++track.counts[label];
+  track.weights[label] += weight;
+  track.total += weight;
   ++track.votes;
   track.last_seen = stamp;
   // A tie keeps the label the track holds: a tag that turned on every tie flickered in rviz
@@ -12,15 +14,14 @@ TrackLabel TrackVotes::vote(std::int64_t id, const std::string& label, double st
   if (track.held.empty()) {
     track.held = label;
   }
-  std::size_t most = track.counts[track.held];
-  for (const auto& [name, count] : track.counts) {
-    if (count > most) {
-      most = count;
+  double most = track.weights[track.held];
+  for (const auto& [name, weight_so_far] : track.weights) {
+    if (weight_so_far > most) {
+      most = weight_so_far;
       track.held = name;
     }
   }
-  return TrackLabel{track.held, static_cast<double>(most) / static_cast<double>(track.votes),
-                    track.votes};
+  return TrackLabel{track.held, most / track.total, track.votes};
 }
 
 void TrackVotes::forget(double stamp) {

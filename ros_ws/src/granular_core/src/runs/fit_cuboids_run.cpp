@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <cstdio>
+#include <deque>
+#include <map>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 #include "granular_core/dataset/atomic_file.h"
 #include "granular_core/dataset/detections.h"
@@ -93,9 +96,10 @@ Detection trackCuboid(const Track& track, Detection cuboid, double max_turn_deg)
 // Tracks `frame` (the last of `pending`): its cuboids of reported tracks go to its written
 // list, a track born in it adds its tentative frames' cuboids to theirs, and one that coasted
 // through at most bridge_frames frames bridges them (offline, those frames are still pending:
-// `pending` holds enough of the last frames for both).
-void trackFrame(Tracker& tracker, const TrackingConfig& config, const fs::path& cloud,
-                std::deque<PendingFrame>& pending, const std::vector<Observation>& observations) {
+// `pending` holds enough of the last frames for both). Returns the reported tracks.
+std::vector<Track> trackFrame(Tracker& tracker, const TrackingConfig& config,
+                              const fs::path& cloud, std::deque<PendingFrame>& pending,
+                              const std::vector<Observation>& observations) {
   PendingFrame& frame = pending.back();
   const double stamp = seconds(frame.header);
   std::vector<Track> tracks;
@@ -118,6 +122,42 @@ void trackFrame(Tracker& tracker, const TrackingConfig& config, const fs::path& 
       earlier.written.push_back(
           trackCuboid(track, earlier.fitted[before.observation], config.max_turn_deg));
     }
+  }
+  return tracks;
+}
+
+// A track's class as it ended: its label and share in the last frame it had a vote.
+using FinalClasses = std::map<std::int64_t, std::pair<std::string, double>>;
+
+// Rewrites the written frames `stamps` in `folder` where a cuboid's label or score is not its
+// track's final class (TrackingConfig::final_class), moving its count in `labels`.
+void writeFinalClasses(const fs::path& folder, const std::vector<std::string>& stamps,
+                       const FinalClasses& final_classes,
+                       std::map<std::string, std::size_t>& labels) {
+  for (const std::string& stamp : stamps) {
+    const fs::path file = folder / (stamp + ".json");
+    DetectionsHeader header;
+    std::vector<Detection> cuboids = readDetectionsJson(file, &header);
+    bool changed = false;
+    for (Detection& cuboid : cuboids) {
+      const auto final_class = final_classes.find(cuboid.id);
+      if (final_class == final_classes.end() ||
+          (cuboid.label == final_class->second.first &&
+           cuboid.score == final_class->second.second)) {
+        continue;
+      }
+      --labels[cuboid.label];
+      ++labels[final_class->second.first];
+      cuboid.label = final_class->second.first;
+      cuboid.score = final_class->second.second;
+      changed = true;
+    }
+    if (changed) {
+      writeFile(file, detectionsJson(cuboids, header), "JSON");
+    }
+  }
+  for (auto label = labels.begin(); label != labels.end();) {
+    label = label->second == 0 ? labels.erase(label) : std::next(label);
   }
 }
 
@@ -222,6 +262,8 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     tracker.emplace(*options.tracking);
     summary.tracked = true;
   }
+  std::vector<std::string> written_stamps;
+  FinalClasses final_classes;
   const auto write = [&](PendingFrame& frame) {
     if (tracker) {  // by track id; untracked, the cuboids stay in the order they were fitted
       std::sort(frame.written.begin(), frame.written.end(),
@@ -231,6 +273,7 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
       ++summary.labels[cuboid.label];
     }
     summary.fitted += frame.written.size();
+    written_stamps.push_back(frame.stamp);
     summary.tentative += frame.fitted.size() - (frame.written.size() - frame.bridging);
     summary.bridging += frame.bridging;
     writeFile(output.staging() / (frame.stamp + ".json"),
@@ -374,8 +417,13 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
     pending.push_back(std::move(pending_frame));
     std::size_t held_frames = 0;
     if (tracker) {
-      trackFrame(*tracker, *options.tracking, frames / "pcd" / (stamp + ".pcd"), pending,
-                 observations);
+      for (const Track& track : trackFrame(*tracker, *options.tracking,
+                                           frames / "pcd" / (stamp + ".pcd"), pending,
+                                           observations)) {
+        if (track.share > 0.0) {
+          final_classes[track.id] = {track.label, track.share};
+        }
+      }
       summary.tracks = tracker->born();
       // A track born in the next frame may write back to its tentative frames, and one that
       // coasted bridge_frames frames bridges them from its cuboid before those.
@@ -393,6 +441,9 @@ FitCuboidsSummary fitCuboidsFolder(const fs::path& frames, const fs::path& out,
   }
   for (; !pending.empty(); pending.pop_front()) {
     write(pending.front());
+  }
+  if (tracker && options.tracking->final_class) {
+    writeFinalClasses(output.staging(), written_stamps, final_classes, summary.labels);
   }
   output.commit();
   summary.seconds =

@@ -26,6 +26,17 @@ TEST(TrackVotesTest, TheMostFrequentLabelWinsAndATieKeepsTheLabelHeld) {
   EXPECT_DOUBLE_EQ(overtaken.share, 0.5);
 }
 
+TEST(TrackVotesTest, VotesWeighedByPointsLetANearFrameOutweighFarOnes) {
+  TrackVotes votes;
+  for (int frame = 0; frame < 4; ++frame) {  // far: 30 points a frame
+    EXPECT_EQ(votes.vote(3, "BoxTruck", 0.1 * frame, 30.0).label, "BoxTruck");
+  }
+  const TrackLabel near = votes.vote(3, "SchoolBus", 0.4, 200.0);  // 200 against 120
+  EXPECT_EQ(near.label, "SchoolBus");
+  EXPECT_DOUBLE_EQ(near.share, 200.0 / 320.0);
+  EXPECT_EQ(near.votes, 5u);
+}
+
 TEST(TrackVotesTest, TracksVoteApart) {
   TrackVotes votes;
   votes.vote(1, "SUV", 0.0);

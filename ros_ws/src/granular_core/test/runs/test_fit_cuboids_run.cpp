@@ -295,6 +295,43 @@ TEST_F(FitCuboidsFolderTest, TrackedCuboidsCarryTheirTracksIdAndVelocity) {
   EXPECT_EQ(crowded[0].velocity, Eigen::Vector3d::Zero());
 }
 
+TEST_F(FitCuboidsFolderTest, ATrackedCuboidCarriesItsTracksFinalClassInEveryFrame) {
+  // Six frames of the car driving away, seen 1.5 m high in the first three and 3 m high in the
+  // last three (as a van whose top the first frames' view cut): the namer calls it Low, then
+  // Tall, and the taller frames' points outweigh the first ones' by the end.
+  fs::create_directories(root_ / "models");
+  writeModelPcd(root_ / "models" / "Low.pcd", boxSurface({4.5, 1.8, 1.5}));
+  writeModelPcd(root_ / "models" / "Tall.pcd", boxSurface({4.5, 1.8, 3.0}));
+  const ObjectClassifier namer = ObjectClassifier::registration(
+      RegistrationMethod::kIcp, RegistrationClassifierConfig{}, root_ / "models");
+  const std::vector<std::string> stamps = writeDrive(6, [](int k, StandingBox car) {
+    car.size.z() = k < 3 ? 1.5 : 3.0;
+    return std::vector<StandingBox>{car};
+  });
+  const auto labels = [&](bool final_class) {
+    FitCuboidsOptions tracked = options(CuboidInputs::kSegments);
+    tracked.namer = &namer;
+    tracked.tracking = TrackingConfig();
+    tracked.tracking->birth_hits = 3;
+    tracked.tracking->final_class = final_class;
+    const fs::path out = root_ / (final_class ? "final" : "so_far");
+    const FitCuboidsSummary summary = fitCuboidsFolder(root_ / "drive", out, carPrior(), tracked);
+    std::vector<std::string> written;
+    std::map<std::string, std::size_t> counted;
+    for (const std::string& stamp : stamps) {
+      const std::vector<Detection> cuboids = readDetectionsJson(out / (stamp + ".json"));
+      written.push_back(cuboids.size() == 1 ? cuboids[0].label : "none");
+      ++counted[written.back()];
+    }
+    EXPECT_EQ(summary.labels, counted);  // the summary counts what was written
+    return written;
+  };
+  const std::vector<std::string> so_far = labels(false);
+  EXPECT_EQ(so_far[0], "Low");
+  EXPECT_EQ(so_far[5], "Tall");
+  EXPECT_EQ(labels(true), std::vector<std::string>(6, "Tall"));
+}
+
 TEST_F(FitCuboidsFolderTest, AFrameATrackCoastedThroughIsBridged) {
   // Seven frames 0.1 s apart of the car driving along its heading at 10 m/s, its points gone
   // in frame 4: with bridge_frames 1 frame 4 is written with the track's cuboid halfway

@@ -344,14 +344,19 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
   const bool tall = cues.top > config_.max_car_top;
   // A truck or bus seen end on, as tall as one: its wheels and bumper hide the road under it,
   // and its cab may stand before its box's face.
-  const bool end_on = tall && cues.top >= config_.min_long_top &&
-                      cues.seen_length <= config_.end_on_max_length &&
-                      cues.end_face_width >= config_.end_face_min_width;
+  const bool box_face = tall && cues.top >= config_.min_long_top &&
+                        cues.end_face_width >= config_.end_face_min_width;
+  const bool end_on = box_face && cues.seen_length <= config_.end_on_max_length;
+  // Seen longer, such a face still tells a box from a tree crown, but not from a wall piece
+  // standing on the road: the clearance is asked, the cab before its box allowed for.
+  const double tall_face_distance =
+      box_face ? std::max(config_.tall_max_face_distance, config_.box_face_max_distance)
+               : config_.tall_max_face_distance;
   if (cues.seen_length > config_.max_car_length && cues.top < config_.min_long_top) {
     return VehicleVerdict::kTooLong;
   }
   if (tall && !end_on && (cues.clear_share < config_.tall_clear_share ||
-               cues.face_distance > config_.tall_max_face_distance)) {
+               cues.face_distance > tall_face_distance)) {
     return VehicleVerdict::kTallOnTheRoad;
   }
   if (!tall && cues.seen_length >= config_.profile_min_length &&

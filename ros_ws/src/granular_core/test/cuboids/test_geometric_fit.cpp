@@ -335,6 +335,53 @@ TEST(GeometricFitTest, ATruckWhoseRoofTheHighestRingPassedUnderTakesTheShortestT
   EXPECT_NEAR(whole->box.size().x(), 11.0, 1e-9);
 }
 
+TEST(GeometricFitTest, ABusCutAtTheCapWhoseSideGoesOnPastATrucksLengthTakesTheBusPrior) {
+  // Seen from behind at a slant, cut 3 m above the road: its segment holds the rear and the
+  // first 2 m of the side (the rest of the side, sparse at a grazing angle, fell apart).
+  const GroundPlane ground = road();
+  CuboidConfig config = carTruckAndBusPriors();
+  const auto fitted_length = [&](const StandingBox& vehicle) {
+    const auto cut = [](double, double, double h) { return h <= 3.0; };
+    const std::vector<Eigen::Vector3d> whole =
+        seenFaces(vehicle, sensorInRoadFrame(ground), 0.05, cut);
+    const double rear = -vehicle.size.x() / 2;
+    ObjectView object = view(seenFaces(vehicle, sensorInRoadFrame(ground), 0.05,
+                                       [&](double u, double v, double h) {
+                                         return u <= rear + 2.0 + 1e-9 && cut(u, v, h);
+                                       }),
+                             ground);
+    object.height_cap = 3.0;
+    const FreeSpace free_space(scanWithRoad(whole, ground), ground, config.free_space);
+    object.free_space = &free_space;
+    const std::optional<FittedCuboid> fitted = GeometricCuboidFitter(config).fit(object);
+    if (!fitted) {
+      ADD_FAILURE() << "no cuboid";
+      return 0.0;
+    }
+    // Grown from the seen rear (along x, yaw 0) to its length.
+    const double length = fitted->box.size().x();
+    EXPECT_LT(headingError(fitted->box, ground, vehicle.yaw), 0.5);
+    EXPECT_LT(centreError(fitted->box, ground,
+                          StandingBox{{vehicle.centre.x() + (length - vehicle.size.x()) / 2,
+                                       vehicle.centre.y()},
+                                      vehicle.yaw,
+                                      {length, vehicle.size.y(), 3.0}}),
+              0.05);
+    return length;
+  };
+  StandingBox bus;
+  bus.centre = {20.0, 3.0};
+  bus.size = {11.0, 2.5, 3.1};
+  StandingBox truck = bus;
+  truck.size = {7.2, 2.4, 3.3};
+  EXPECT_NEAR(fitted_length(bus), 11.0, 1e-9);
+  // The truck's side ends where its prior does: it stays the truck.
+  EXPECT_NEAR(fitted_length(truck), 7.2, 1e-9);
+  // Without the rule the bus is the shortest prior tall enough, the truck.
+  config.geometric.longer_occupied_steps = 0;
+  EXPECT_NEAR(fitted_length(bus), 7.2, 1e-9);
+}
+
 TEST(GeometricFitTest, WheelsSeenBelowARearFaceDoNotMakeItASide) {
   const GroundPlane ground = road();
   CuboidConfig config = carPrior();

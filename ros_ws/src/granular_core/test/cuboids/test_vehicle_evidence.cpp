@@ -190,6 +190,46 @@ TEST(VehicleEvidenceTest, ABoxTruckSeenEndOnIsAVehicleATreeAsTallIsNot) {
   EXPECT_EQ(verdict, VehicleVerdict::kNotASurface) << verdictName(verdict);
 }
 
+TEST(VehicleEvidenceTest, ATruckSeenAtASlantWithItsCabBeforeItsBoxIsAVehicleAWallPieceIsNot) {
+  // The cues of a box truck seen from the front at a slant, 14 m away on the simulated road:
+  // 4.6 m of it seen, so not end on; its body clear of the road along most of its side; its
+  // front near the top 1.9 m wide; its body returns a median 0.18 m from a flat face (its cab
+  // stands before its box).
+  VehicleCues truck;
+  truck.points = 300;
+  truck.body_points = 150;
+  truck.top = 2.99;
+  truck.seen_length = 4.6;
+  truck.seen_width = 2.2;
+  truck.cuboid_width = 2.4;
+  truck.fill = 1.0;
+  truck.face_distance = 0.18;
+  truck.clear_share = 0.6;
+  truck.end_face_width = 1.9;
+  VehicleEvidenceConfig config;
+  config.box_face_max_distance = 0.25;
+  const Cloud road_only = scan({});
+  const auto verdict = [&](const VehicleCues& cues, const VehicleEvidenceConfig& with) {
+    return VehicleEvidence(road_only, flatRoad(), with, kAzimuthStepDeg).judge(cues);
+  };
+  EXPECT_EQ(verdict(truck, config), VehicleVerdict::kVehicle);
+  VehicleEvidenceConfig off = config;
+  off.box_face_max_distance = 0.0;
+  EXPECT_EQ(verdict(truck, off), VehicleVerdict::kTallOnTheRoad);
+  // A wall piece as wide at its top, standing on the road: the clearance is still asked.
+  VehicleCues wall = truck;
+  wall.clear_share = 0.1;
+  EXPECT_EQ(verdict(wall, config), VehicleVerdict::kTallOnTheRoad);
+  // A tree crown, narrower at its top than a vehicle's face.
+  VehicleCues crown = truck;
+  crown.end_face_width = 1.0;
+  EXPECT_EQ(verdict(crown, config), VehicleVerdict::kTallOnTheRoad);
+  // Returns farther from a flat face than a cab before a box puts them.
+  VehicleCues spread = truck;
+  spread.face_distance = 0.3;
+  EXPECT_EQ(verdict(spread, config), VehicleVerdict::kTallOnTheRoad);
+}
+
 TEST(VehicleEvidenceTest, ALongHedgeBehindAParkedCarIsNoTruck) {
   // KITTI 000000's hedge line: 7 m long and 2.4 m tall, 22 m away, a parked car before it
   // hiding its foot, so that its lowest returns stand high as a truck's body would.

@@ -310,6 +310,12 @@ struct VehicleEvidenceConfig {
   double end_face_band = 0.4;       ///< m below the top
   double end_face_depth = 0.2;      ///< m
   double end_face_min_width = 1.6;  ///< m
+  /// m: a tall object at least min_long_top tall whose face near the top spans
+  /// end_face_min_width (as above) but that was seen longer than end_on_max_length (a truck at
+  /// a slant) must still stand clear of the road, but its body returns may lie this far from a
+  /// flat face instead of tall_max_face_distance: seen from the front, a truck's cab stands
+  /// before its box. 0: tall_max_face_distance for every tall object.
+  double box_face_max_distance = 0.25;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -350,6 +356,7 @@ struct VehicleEvidenceConfig {
     visit("end_face_band", self.end_face_band, positive("m"));
     visit("end_face_depth", self.end_face_depth, nonNegative("m"));
     visit("end_face_min_width", self.end_face_min_width, positive("m"));
+    visit("box_face_max_distance", self.box_face_max_distance, nonNegative("m"));
   }
 };
 
@@ -384,6 +391,14 @@ struct GeometricFitConfig {
   /// have passed under its roof (the HDL-64E's, 2 degrees up, passes 2.7 m above the road 29 m
   /// away, where a 3.3 m box truck then looked nearest the 3.1 m bus).
   double cut_top_above = 2.2;
+  /// Such an object (it may be taller than seen) grown to a prior with a longer one at least as
+  /// tall takes the longer one when at least this many free_space.step steps past its grown
+  /// far end (beyond the first width_tolerance: a vehicle a little longer than its prior), up
+  /// to the longer prior's length, hold a return in the free space's body band across its
+  /// width: a bus cut at the height cap and seen end on, whose side goes on past a box truck's
+  /// length. Seen at a grazing angle, the side's columns of returns stand metres apart (one
+  /// step is evidence). 0: off.
+  std::size_t longer_occupied_steps = 1;
 
   template <class Self, class Visit>
   static void fields(Self& self, Visit& visit) {
@@ -398,6 +413,7 @@ struct GeometricFitConfig {
     visit("cap_reach", self.cap_reach, nonNegative("m"));
     visit("cap_reach_deg", self.cap_reach_deg, interval(0.0, 90.0, "deg", false, true));
     visit("cut_top_above", self.cut_top_above, nonNegative("m"));
+    visit("longer_occupied_steps", self.longer_occupied_steps, nonNegative("steps"));
   }
 };
 

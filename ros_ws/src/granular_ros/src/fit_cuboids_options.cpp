@@ -94,8 +94,7 @@ void FitCuboidsOptions::declareIn(Tool& tool) {
             "sensor frame) and class (label, and the share of the votes as score: of all the "
             "track's frames with the config's final_class, the default, else of its frames so "
             "far; the cuboid's own where no frame voted); the sensor's own motion is not taken "
-            "out. "
-            "Without it every cuboid is written, numbered per frame, at rest")
+            "out. Without it every cuboid is written, numbered per frame, at rest")
       .value("--tracking-config", tracking_config_file, "FILE",
              "YAML file like config/tracking.yaml (implies --track)")
       .threads("--threads", threads, "threads fitting a frame's objects (default: every core)")

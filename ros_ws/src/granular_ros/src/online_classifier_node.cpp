@@ -33,8 +33,8 @@
 #include "granular_ros/latency.h"
 #include "granular_ros/markers.h"
 #include "granular_ros/node_parameters.h"
-#include "granular_ros/tool.h"
 #include "granular_ros/presets.h"
+#include "granular_ros/tool.h"
 
 namespace {
 

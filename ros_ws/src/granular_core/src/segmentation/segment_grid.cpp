@@ -1,6 +1,7 @@
 #include "segment_grid.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <utility>
 
@@ -57,7 +58,9 @@ FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,
     }
     const PointXYZIT& point = cloud[i];
     const double range_sq = double(point.x) * point.x + double(point.y) * point.y;
-    if (range_sq <= min_range_sq || range_sq >= max_range_sq) {
+    const bool own_vehicle =
+        range_sq <= min_range_sq && std::abs(point.y) <= config.own_half_width;
+    if (own_vehicle || range_sq >= max_range_sq) {
       continue;
     }
     if (height > config.max_height) {

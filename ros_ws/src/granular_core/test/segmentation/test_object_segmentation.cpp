@@ -161,6 +161,29 @@ TEST(ObjectSegmentationTest, ABusSeenFromTheSideIsNoWall) {
   EXPECT_EQ(segmentObjects(rail, roadGround(), config).rejected.at("wall"), 1u);
 }
 
+TEST(ObjectSegmentationTest, ATruckPassingBesideTheSensorIsOneSegmentAndTheOwnCarNone) {
+  // A truck's side in the next lane, 2.2 m to the right, 7 m long: its middle comes nearer
+  // than min_range (2.5 m). The sensor's own car returns its hood and mirrors within it.
+  Cloud cloud = road();
+  addPanel(cloud, -2.2, 7.0, 0.55, 3.0, {-2.5, 2.5});
+  const std::size_t truck_points = cloud.size() - road().size();
+  for (const Eigen::Vector2d& own : {Eigen::Vector2d(1.6, 0.6), Eigen::Vector2d(1.6, -0.6),
+                                     Eigen::Vector2d(0.3, 1.05), Eigen::Vector2d(0.3, -1.05)}) {
+    for (double h = 0.9; h <= 1.2; h += 0.05) {
+      cloud.push_back(PointXYZIT(static_cast<float>(own.x()), static_cast<float>(own.y()),
+                                 static_cast<float>(-kSensorHeight + h), 0, 0.0));
+    }
+  }
+  const ObjectSegmentation kept = segmentObjects(cloud, roadGround());
+  ASSERT_EQ(kept.segments.size(), 1u);
+  EXPECT_EQ(kept.segments[0].indices.size(), truck_points);
+  EXPECT_NEAR(kept.segments[0].box.size().x(), 7.0, 0.1);
+  // Leaving out the whole circle, as before own_half_width, cuts the side in two.
+  ObjectSegmentationConfig circle;
+  circle.own_half_width = circle.min_range;
+  EXPECT_EQ(segmentObjects(cloud, roadGround(), circle).segments.size(), 2u);
+}
+
 TEST(ObjectSegmentationTest, ACarParkedAgainstAWallIsFoundWhenTheWallIsPeeledOff) {
   for (const double yaw : {0.0, 0.5}) {
     Cloud cloud = road();

@@ -133,7 +133,11 @@ struct ObjectSegmentationConfig {
   /// max_height are the candidates; above, overhangs (crowns, awnings) that would join a car
   /// to its tree.
   double max_height = 3.0;
-  double min_range = 2.5;    ///< m: nearer points are the sensor's own vehicle
+  double min_range = 2.5;    ///< m: nearer points are the sensor's own vehicle ...
+  /// ... when also within this many metres of the sensor's x axis: beside it, the side of a
+  /// truck passing in the next lane comes nearer than min_range and must stay whole (KITTI's
+  /// own returns lie within 1.55 m of that axis).
+  double own_half_width = 1.6;
   double max_range = 80.0;   ///< m: the grid covers this around the sensor
   double cell_size = 0.15;   ///< m, the paper's cell
   /// Occupied cells up to link_cells rows or columns apart join (1: touching cells) ...
@@ -160,6 +164,7 @@ struct ObjectSegmentationConfig {
     using namespace config;
     visit("max_height", self.max_height, positive("m"));
     visit("min_range", self.min_range, nonNegative("m"));
+    visit("own_half_width", self.own_half_width, nonNegative("m"));
     visit("max_range", self.max_range, positive("m"));
     visit("cell_size", self.cell_size, positive("m"));
     visit("link_cells", self.link_cells, interval(1, 100, "cells"));

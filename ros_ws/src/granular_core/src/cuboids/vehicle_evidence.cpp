@@ -70,6 +70,7 @@ VehicleEvidence::VehicleEvidence(const PolarReturns& scan, const VehicleEvidence
     : config_(config),
       ground_(scan.ground()),
       sensor_height_(ground_.heightOf(Eigen::Vector3d::Zero())) {
+  step_ = azimuth_step_deg * kPi / 180.0;
   const double bin_deg = std::max(config.bin_deg, 2.0 * azimuth_step_deg);
   // A ring gives an object one return per azimuth step across it: a sparser sensor gives
   // proportionally fewer.
@@ -111,6 +112,9 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     direction += p.head<2>().normalized();
   }
   const long centre_bin = static_cast<long>(binOf(direction.x(), direction.y()));
+  // Across the line of sight: each return's tangent of its angle off the object's direction.
+  const Eigen::Vector2d sight = direction.normalized();
+  double tan_min = 1e9, tan_max = -1e9, range_sum = 0.0;
   const long half = static_cast<long>(bins_ / 2);
   std::vector<Seen> seen;
   seen.reserve(points.size());
@@ -130,6 +134,13 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     const double u = p.x() * cos_yaw + p.y() * sin_yaw;
     const double v = -p.x() * sin_yaw + p.y() * cos_yaw;
     seen.push_back({bin, p.head<2>().norm(), height, u, v});
+    const double along = sight.x() * p.x() + sight.y() * p.y();
+    if (along > 0.0) {
+      const double tangent = (sight.x() * p.y() - sight.y() * p.x()) / along;
+      tan_min = std::min(tan_min, tangent);
+      tan_max = std::max(tan_max, tangent);
+    }
+    range_sum += seen.back().range;
     bin_min = std::min(bin_min, bin);
     bin_max = std::max(bin_max, bin);
     ++cues.points;
@@ -143,6 +154,10 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   const bool u_longer = u_max - u_min >= v_max - v_min;
   cues.seen_length = u_longer ? u_max - u_min : v_max - v_min;
   cues.seen_width = u_longer ? v_max - v_min : u_max - u_min;
+  if (tan_max >= tan_min) {
+    cues.across_sight = (std::atan(tan_max) - std::atan(tan_min) + step_) * range_sum /
+                        static_cast<double>(seen.size());
+  }
 
   // The faces turned to the sensor (the origin): the near end of each axis.
   const double sensor_u = 0.0, sensor_v = 0.0;
@@ -212,6 +227,25 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   cues.fill = bins_seen == 0 ? 1.0
                              : static_cast<double>(body_bins) /
                                    static_cast<double>(bins_seen);
+  // A nearer neighbour beside it whose ray passes the object's range in its body band: the
+  // object may go on behind it.
+  const auto hiddenBeside = [&](long bin) {
+    const std::size_t frame_bin = frameBin(bin);
+    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1]; ++r) {
+      const Return& nearer = returns_[r];
+      const double at_object =
+          sensor_height_ + (nearer.height - sensor_height_) * nearest / nearer.range;
+      if (nearer.range < nearest - config_.pass_margin &&
+          nearer.range >= nearest - config_.across_hide_depth &&
+          nearer.height > config_.road_height && at_object >= band_min &&
+          at_object <= band_max) {
+        return true;
+      }
+    }
+    return false;
+  };
+  cues.side_hidden = hiddenBeside(bin_min - 1) || hiddenBeside(bin_min) ||
+                     hiddenBeside(bin_max) || hiddenBeside(bin_max + 1);
 
   // Rays through the body band of the inner bins: those that returned from behind the object,
   // having stayed in the band from its near side to its far side (not those that dipped under
@@ -323,7 +357,8 @@ VehicleVerdict VehicleEvidence::judge(const VehicleCues& cues) const {
   if (cues.top > config_.max_top) {
     return VehicleVerdict::kTooTall;
   }
-  if (cues.seen_length < config_.min_extent) {
+  if (cues.seen_length < config_.min_extent ||
+      (cues.across_sight < config_.min_across_sight && !cues.side_hidden)) {
     return VehicleVerdict::kTooSmall;
   }
   if (cues.cuboid_width < config_.min_width) {

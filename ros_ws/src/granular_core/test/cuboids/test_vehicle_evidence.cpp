@@ -96,15 +96,20 @@ TEST(VehicleEvidenceTest, ACanopyOfTheSameSizeThatRaysPassThroughIsBackground) {
 }
 
 TEST(VehicleEvidenceTest, AWallOrAHedgeLineIsNoCar) {
-  // As high as a car, but level along its 7 m (and 0.3 m thin: too_thin besides, not asked here).
+  // As high as a car, but level along its 7 m (and 0.3 m thin: too_thin besides, not asked
+  // here), seen nearly end on: it spans about 1 m across the line of sight, too_small first.
   const Block wall{{9.0, 1.0, -kSensorHeight}, {16.0, 1.3, -kSensorHeight + 1.5}, 0.0};
-  VehicleEvidenceConfig any_width;
-  any_width.min_width = 0.0;
   VehicleVerdict verdict;
+  EXPECT_LT(measured(scan({wall}), wall, verdict).across_sight, 1.2);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooSmall) << verdictName(verdict);
+  VehicleEvidenceConfig any_span;
+  any_span.min_across_sight = 0.0;
+  measured(scan({wall}), wall, verdict, any_span);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooThin) << verdictName(verdict);
+  VehicleEvidenceConfig any_width = any_span;
+  any_width.min_width = 0.0;
   measured(scan({wall}), wall, verdict, any_width);
   EXPECT_EQ(verdict, VehicleVerdict::kTooLong) << verdictName(verdict);
-  measured(scan({wall}), wall, verdict);
-  EXPECT_EQ(verdict, VehicleVerdict::kTooThin) << verdictName(verdict);
   // A car's length, but a level top: refused where the bonnet and boot must show (the default
   // asks only that the ends are no higher than the middle), while the car passes.
   VehicleEvidenceConfig level_tops;
@@ -201,6 +206,7 @@ TEST(VehicleEvidenceTest, ATruckSeenAtASlantWithItsCabBeforeItsBoxIsAVehicleAWal
   truck.top = 2.99;
   truck.seen_length = 4.6;
   truck.seen_width = 2.2;
+  truck.across_sight = 3.0;
   truck.cuboid_width = 2.4;
   truck.fill = 1.0;
   truck.face_distance = 0.18;
@@ -291,6 +297,39 @@ TEST(VehicleEvidenceTest, AnOutermostBinWithoutBodyReturnsIsNoGap) {
   EXPECT_NEAR(measured(fence, bounds, verdict, VehicleEvidenceConfig(), kStepDeg).fill,
               2.0 / 3.0, 1e-12);
   EXPECT_EQ(verdict, VehicleVerdict::kGaps) << verdictName(verdict);
+}
+
+TEST(VehicleEvidenceTest, AnObjectNarrowerAcrossTheLineOfSightThanACarIsNone) {
+  // A dense bush 15 m ahead, 1.2 m across the line of sight and 2.5 m along it, as high as a
+  // car: from any side a car spans at least its width (1.6 m and more) across the line of
+  // sight. The cuboid's own width is left out (min_width 0) so that the span alone decides.
+  VehicleEvidenceConfig config;
+  config.min_width = 0.0;
+  const Block bush{{15.0, -0.6, -kSensorHeight}, {17.5, 0.6, -kSensorHeight + 1.5}, 0.0};
+  VehicleVerdict verdict;
+  const VehicleCues bush_cues = measured(scan({bush}), bush, verdict, config);
+  EXPECT_GT(bush_cues.across_sight, 1.2);
+  EXPECT_LT(bush_cues.across_sight, config.min_across_sight);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooSmall) << verdictName(verdict);
+  // A car seen end on at the same place, its rear 1.8 m wide, is one ...
+  const Block rear{{15.0, -0.9, -kSensorHeight}, {19.5, 0.9, -kSensorHeight + 1.5}, 0.0};
+  const VehicleCues car_cues = measured(scan({rear}), rear, verdict, config);
+  EXPECT_GT(car_cues.across_sight, 1.8);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+  // A car parked beside it and 1.5 m nearer may hide the rest of it, as in a row of parked
+  // cars: its span then tells nothing, unless only what stands nearer still is let hide.
+  const Block beside{{13.5, 0.7, -kSensorHeight}, {18.0, 2.5, -kSensorHeight + 1.5}, 0.0};
+  EXPECT_TRUE(measured(scan({bush, beside}), bush, verdict, config).side_hidden);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
+  VehicleEvidenceConfig near_hides = config;
+  near_hides.across_hide_depth = 1.0;
+  EXPECT_FALSE(measured(scan({bush, beside}), bush, verdict, near_hides).side_hidden);
+  EXPECT_EQ(verdict, VehicleVerdict::kTooSmall) << verdictName(verdict);
+  EXPECT_FALSE(bush_cues.side_hidden);
+  // ... and the bush alone passes with the rule off.
+  config.min_across_sight = 0.0;
+  measured(scan({bush}), bush, verdict, config);
+  EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
 }
 
 TEST(VehicleEvidenceTest, SmallAndLowThingsAreNoVehicles) {

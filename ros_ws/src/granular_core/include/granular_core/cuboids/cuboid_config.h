@@ -257,6 +257,12 @@ struct VehicleEvidenceConfig {
   double points_reference_step_deg = 0.2;  ///< deg
   double min_top = 0.8;          ///< m: lower objects are kerbs, verges, low walls
   double min_extent = 1.0;       ///< m: the longer side seen; shorter are posts and people
+  /// m: an object seen narrower across the line of sight (VehicleCues::across_sight) is no car,
+  /// which shows at least its width from any side: a shrub, a post, a wall's end (0: off) ...
+  double min_across_sight = 1.5;
+  /// m: ... unless something at most this much nearer stands beside it, which may hide the rest
+  /// (a car in a row of parked cars, its neighbour's front a car's width nearer at a slant).
+  double across_hide_depth = 2.5;
   /// m: a cuboid narrower (its shorter side, after growing only into space not seen empty) is
   /// a hedge, shrub or fence whose far side the scan saw; cars are 1.6 m wide and more.
   double min_width = 1.5;
@@ -336,6 +342,8 @@ struct VehicleEvidenceConfig {
     visit("points_reference_step_deg", self.points_reference_step_deg, positive("deg"));
     visit("min_top", self.min_top, nonNegative("m"));
     visit("min_extent", self.min_extent, nonNegative("m"));
+    visit("min_across_sight", self.min_across_sight, nonNegative("m"));
+    visit("across_hide_depth", self.across_hide_depth, nonNegative("m"));
     visit("min_width", self.min_width, nonNegative("m"));
     visit("max_car_top", self.max_car_top, positive("m"));
     visit("max_top", self.max_top, positive("m"));

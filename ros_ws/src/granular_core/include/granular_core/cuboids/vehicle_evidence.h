@@ -21,6 +21,13 @@ struct VehicleCues {
   double top = 0.0;             ///< m above the road, the highest return
   double seen_length = 0.0;     ///< m, the points' extent along the cuboid's longer seen axis
   double seen_width = 0.0;      ///< m, across it
+  /// m: the returns' span across the line of sight, their azimuth span plus one sensor step,
+  /// at their mean range. Every view of a car spans at least its width (a rectangle's shadow
+  /// is never narrower than its shorter side).
+  double across_sight = 0.0;
+  /// Something at most across_hide_depth nearer stands beside it (in its outermost azimuth bins
+  /// or the next), hiding its body band there: it may go on behind that (a car in a row).
+  bool side_hidden = false;
   /// Of the rays through the body band within the object's azimuth span (its edge bins left
   /// out), the share that returned from behind it.
   double pass_share = 0.0;
@@ -49,7 +56,7 @@ enum class VehicleVerdict : std::uint8_t {
   kTooFewPoints,    ///< min_points, min_body_points
   kTooLow,          ///< min_top
   kTooTall,         ///< max_top
-  kTooSmall,        ///< min_extent
+  kTooSmall,        ///< min_extent, min_across_sight
   kTooThin,         ///< min_width: its cuboid is narrower than a car (hedges, shrubs)
   kSeeThrough,      ///< max_pass_share: rays pass through it (foliage)
   kGaps,            ///< min_fill: gaps between its returns (fences, rails, branches)
@@ -105,6 +112,7 @@ class VehicleEvidence {
   GroundPlane ground_;
   double sensor_height_;  // m above the ground
   double bin_;            // rad
+  double step_;           // rad, the sensor's azimuth step
   std::size_t bins_;
   std::size_t min_points_, min_body_points_;  // the config's, for this sensor's step
   std::vector<std::uint32_t> first_;  // per bin, its first return in returns_ (bins_ + 1)

@@ -4,11 +4,11 @@ The zero-shot decision (config/cuboids.yaml `evidence:`, docs/cuboids.md) judges
 segment from cues that hold for every LiDAR. Given a few frames whose boxes a user labelled
 (label_cuboids, or KITTI's label_2 through kitti_to_bag and bag_to_files), this tool adjusts
 its thresholds to that sensor and site: coordinate descent over max_pass_share, min_fill,
-max_face_distance, min_points (with min_body_points), min_top, max_car_length, min_long_top and
-tall_clear_share, two passes over a few values each (at most 54 fits), each candidate scored
-by fitting the frames' segments (fit_cuboids --boxes segment) and matching the cuboids to the
-labelled vehicles (evaluate_cuboids' paper criterion: centre within 0.5 m, yaw
-within 10 degrees). A change is kept only when it raises F1 over the frames: with no better
+max_face_distance, min_points (with min_body_points), min_top, max_car_length, min_long_top,
+tall_clear_share and min_across_sight, two passes over a few values each (at most 60 fits),
+each candidate scored by fitting the frames' segments (fit_cuboids --boxes segment) and
+matching the cuboids to the labelled vehicles (evaluate_cuboids' paper criterion: centre
+within 0.5 m, yaw within 10 degrees). A change is kept only when it raises F1 over the frames: with no better
 candidate the zero-shot values stay, so a few frames cannot talk the decision into anything
 they do not show. The file written holds the `evidence:` keys, and cuboids.launch and
 online.launch take it as `classifier:=` (fit_cuboids --classifier), laid over their
@@ -43,6 +43,7 @@ TUNED = {
     "max_car_length": (5.0, 5.5, 6.5),
     "min_long_top": (2.2, 2.6, 3.0),
     "tall_clear_share": (0.3, 0.5, 0.7),
+    "min_across_sight": (1.2, 1.5, 1.6),
 }
 SWEEPS = 2  # passes over TUNED; a pass that changes nothing ends the search
 

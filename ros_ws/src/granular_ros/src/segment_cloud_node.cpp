@@ -122,7 +122,9 @@ class SegmentCloud {
     try {
       cloud = granular_ros::toCloud(*message);
     } catch (const std::exception& error) {
-      ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: skipping a cloud: " << error.what());
+      if (warningDue(last_cloud_warning_)) {
+        ROS_WARN_STREAM("segment_cloud: skipping a cloud: " << error.what());
+      }
       return;
     }
     if (!segmenter_ && !measureSensor(cloud)) {
@@ -135,10 +137,11 @@ class SegmentCloud {
       const granular::GroundCheck check =
           granular::checkGround(cloud, segmentation.ground.plane, segmentation.ground.inliers,
                                 ground_config_, message->header.frame_id);
-      if (check.verdict != granular::GroundCheck::Verdict::kGround) {
-        ROS_WARN_STREAM_THROTTLE(10.0, "segment_cloud: the cloud of "
-                                           << message->header.stamp << " in frame '"
-                                           << message->header.frame_id << "': " << check.problem);
+      if (check.verdict != granular::GroundCheck::Verdict::kGround &&
+          warningDue(last_ground_warning_)) {
+        ROS_WARN_STREAM("segment_cloud: the cloud of " << message->header.stamp << " in frame '"
+                                                       << message->header.frame_id
+                                                       << "': " << check.problem);
       }
     }
     const granular::FrameCuboids cuboids = granular::fitSegmentCuboids(
@@ -236,6 +239,18 @@ class SegmentCloud {
   ros::Publisher publisher_;
   ros::Publisher latency_publisher_;
   ros::SteadyTimer timer_;
+  // Warnings at most every 10 s on the wall clock: ROS's throttle reads the bag's clock,
+  // still 0 when the first cloud may come, and then kept the first frame's warning back.
+  static bool warningDue(std::optional<std::chrono::steady_clock::time_point>& last) {
+    const auto now = std::chrono::steady_clock::now();
+    if (last && now - *last < std::chrono::seconds(10)) {
+      return false;
+    }
+    last = now;
+    return true;
+  }
+  std::optional<std::chrono::steady_clock::time_point> last_cloud_warning_;
+  std::optional<std::chrono::steady_clock::time_point> last_ground_warning_;
   granular_ros::LatencyStats latency_;
 };
 

@@ -316,9 +316,10 @@ TEST(VehicleEvidenceTest, AnObjectNarrowerAcrossTheLineOfSightThanACarIsNone) {
   const VehicleCues car_cues = measured(scan({rear}), rear, verdict, config);
   EXPECT_GT(car_cues.across_sight, 1.8);
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
-  // A car parked beside it and 1.5 m nearer may hide the rest of it, as in a row of parked
-  // cars: its span then tells nothing, unless only what stands nearer still is let hide.
-  const Block beside{{13.5, 0.7, -kSensorHeight}, {18.0, 2.5, -kSensorHeight + 1.5}, 0.0};
+  // A neighbour's front 1.2-1.8 m nearer, hiding its left edge as in a row of parked cars,
+  // may hide the rest of it: its span then tells nothing, unless only what stands within 1 m
+  // nearer may hide it.
+  const Block beside{{13.2, 0.5, -kSensorHeight}, {13.6, 2.3, -kSensorHeight + 1.5}, 0.0};
   EXPECT_TRUE(measured(scan({bush, beside}), bush, verdict, config).side_hidden);
   EXPECT_EQ(verdict, VehicleVerdict::kVehicle) << verdictName(verdict);
   VehicleEvidenceConfig near_hides = config;

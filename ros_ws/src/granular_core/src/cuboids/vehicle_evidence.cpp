@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "granular_core/geometry/fast_atan2.h"
 
@@ -69,8 +70,8 @@ VehicleEvidence::VehicleEvidence(const PolarReturns& scan, const VehicleEvidence
                                  double azimuth_step_deg)
     : config_(config),
       ground_(scan.ground()),
-      sensor_height_(ground_.heightOf(Eigen::Vector3d::Zero())) {
-  step_ = azimuth_step_deg * kPi / 180.0;
+      sensor_height_(ground_.heightOf(Eigen::Vector3d::Zero())),
+      step_(azimuth_step_deg * kPi / 180.0) {
   const double bin_deg = std::max(config.bin_deg, 2.0 * azimuth_step_deg);
   // A ring gives an object one return per azimuth step across it: a sparser sensor gives
   // proportionally fewer.
@@ -200,6 +201,23 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
   // there (a car parked behind another shows only its roof), or the bin is an outermost one:
   // a sparse sensor's bins are wide, and a car's outermost may hold only its mirror or its
   // cabin's edge.
+  // Whether bin holds a return at most `depth` m nearer than the object whose ray would have
+  // met the body band at the object's range: the object's body may lie hidden there.
+  const auto hiddenIn = [&](long bin, double depth) {
+    const std::size_t frame_bin = frameBin(bin);
+    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1]; ++r) {
+      const Return& nearer = returns_[r];
+      const double at_object =
+          sensor_height_ + (nearer.height - sensor_height_) * nearest / nearer.range;
+      if (nearer.range < nearest - config_.pass_margin && nearer.range >= nearest - depth &&
+          nearer.height > config_.road_height && at_object >= band_min &&
+          at_object <= band_max) {
+        return true;
+      }
+    }
+    return false;
+  };
+  constexpr double kAnyDepth = std::numeric_limits<double>::infinity();
   std::size_t bins_seen = 0;
   for (long bin = bin_min; bin <= bin_max; ++bin) {
     if (spans[static_cast<std::size_t>(bin - bin_min)].body > 0) {
@@ -209,43 +227,17 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     if (bin == bin_min || bin == bin_max) {
       continue;
     }
-    const std::size_t frame_bin = frameBin(bin);
-    bool hidden = false;
-    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1] && !hidden; ++r) {
-      // A nearer return whose ray would have met the body band at the object's range.
-      const Return& nearer = returns_[r];
-      const double at_object =
-          sensor_height_ + (nearer.height - sensor_height_) * nearest / nearer.range;
-      hidden = nearer.range < nearest - config_.pass_margin &&
-               nearer.height > config_.road_height && at_object >= band_min &&
-               at_object <= band_max;
-    }
-    if (!hidden) {
+    if (!hiddenIn(bin, kAnyDepth)) {
       ++bins_seen;
     }
   }
   cues.fill = bins_seen == 0 ? 1.0
                              : static_cast<double>(body_bins) /
                                    static_cast<double>(bins_seen);
-  // A nearer neighbour beside it whose ray passes the object's range in its body band: the
-  // object may go on behind it.
-  const auto hiddenBeside = [&](long bin) {
-    const std::size_t frame_bin = frameBin(bin);
-    for (std::uint32_t r = first_[frame_bin]; r < first_[frame_bin + 1]; ++r) {
-      const Return& nearer = returns_[r];
-      const double at_object =
-          sensor_height_ + (nearer.height - sensor_height_) * nearest / nearer.range;
-      if (nearer.range < nearest - config_.pass_margin &&
-          nearer.range >= nearest - config_.across_hide_depth &&
-          nearer.height > config_.road_height && at_object >= band_min &&
-          at_object <= band_max) {
-        return true;
-      }
-    }
-    return false;
-  };
-  cues.side_hidden = hiddenBeside(bin_min - 1) || hiddenBeside(bin_min) ||
-                     hiddenBeside(bin_max) || hiddenBeside(bin_max + 1);
+  // A neighbour beside it, at most across_hide_depth nearer: the object may go on behind it.
+  const double hide_depth = config_.across_hide_depth;
+  cues.side_hidden = hiddenIn(bin_min - 1, hide_depth) || hiddenIn(bin_min, hide_depth) ||
+                     hiddenIn(bin_max, hide_depth) || hiddenIn(bin_max + 1, hide_depth);
 
   // Rays through the body band of the inner bins: those that returned from behind the object,
   // having stayed in the band from its near side to its far side (not those that dipped under

@@ -112,8 +112,8 @@ struct FrameGrid {
 // The candidates of `cloud` on `grid`: points above the ground (`ground`, the cloud's), at most
 // config.max_height high, not the sensor's own vehicle (within config.min_range and
 // own_half_width of its x axis), within config.max_range of the sensor (seen from above) and on
-// the grid; points higher than max_height but below 8 m are
-// overhangs, which only raise top_of_cell. Each occupied cell's place k is written into
+// the grid; points higher than max_height but below 8 m are overhangs, which only raise
+// top_of_cell. Each occupied cell's place k is written into
 // slot[cell] and its bit set in `held` (slot -1 and no bit elsewhere, as given): the caller
 // resets both for the next frame.
 FrameGrid buildFrameGrid(const Cloud& cloud, const GroundEstimate& ground,

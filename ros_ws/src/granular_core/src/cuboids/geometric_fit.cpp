@@ -135,7 +135,20 @@ std::optional<FittedCuboid> GeometricCuboidFitter::fit(const ObjectView& object)
           ? choosePrior(config_, levelled->top, may_be_taller, seen.maxCoeff())
           : nullptr;
   const int longer = seen.x() >= seen.y() ? 0 : 1;
-  const Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
+  Eigen::Vector2d body = cuboids::bodyExtent(*levelled, rectangle);
+  if (prior != nullptr && !object.heading && config_.lshape.face_closeness_d0 > 0.0 &&
+      body.maxCoeff() <= prior->width + config_.geometric.width_tolerance) {
+    // Seen as one face (an end), a bump on it (a spare wheel, a rounded nose) can outvote the
+    // face's returns: where a criterion tolerating it turns the rectangle far, it is taken.
+    LShapeConfig tolerant = config_.lshape;
+    tolerant.closeness_d0 = config_.lshape.face_closeness_d0;
+    const AxisRectangle face = cuboids::lshapeRectangle(*levelled, tolerant);
+    if (std::abs(std::remainder(face.heading - rectangle.heading, M_PI / 2)) >=
+        config_.lshape.face_min_turn_deg * M_PI / 180.0) {
+      rectangle = face;
+      body = cuboids::bodyExtent(*levelled, rectangle);
+    }
+  }
   // Seen longer than the class is wide, the length can only lie along the longer side.
   const bool heading_seen =
       prior == nullptr || body.maxCoeff() > prior->width + config_.geometric.width_tolerance;

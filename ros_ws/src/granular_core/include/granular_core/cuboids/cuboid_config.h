@@ -49,6 +49,12 @@ struct LShapeConfig {
   /// returns; 0.1 m tolerates a real sensor's noise and mirrors' spread (docs/cuboids.md: KITTI
   /// yaw error median 5.4 -> 3.4 deg, simulator unchanged).
   double closeness_d0 = 0.1;
+  /// m: d0 again for an object seen as one face (no longer than its class is wide), whose
+  /// bumps (a spare wheel, a rounded nose) stand further out of its end; 0: not refitted.
+  double face_closeness_d0 = 0.2;
+  /// deg: ... its rectangle is taken where it turns the first at least this far (nearer, the
+  /// first criterion's precision on a real sensor's noise wins).
+  double face_min_turn_deg = 8.0;
   /// m: bird's-eye points are merged to one per cell of this size before the search, so that a
   /// face hit by many rings does not outweigh one hit by few (and the search costs what the
   /// footprint's outline does, not the point count).
@@ -63,6 +69,8 @@ struct LShapeConfig {
     visit("coarse_step_deg", self.coarse_step_deg, interval(0.01, 45, "deg"));
     visit("fine_step_deg", self.fine_step_deg, interval(0.01, 45, "deg"));
     visit("closeness_d0", self.closeness_d0, positive("m"));
+    visit("face_closeness_d0", self.face_closeness_d0, nonNegative("m"));
+    visit("face_min_turn_deg", self.face_min_turn_deg, interval(0, 45, "deg"));
     visit("cell", self.cell, positive("m"));
   }
 };

@@ -35,6 +35,7 @@
 #include "granular_ros/node_parameters.h"
 #include "granular_ros/presets.h"
 #include "granular_ros/tool.h"
+#include "granular_ros/wall_throttle.h"
 
 namespace {
 
@@ -201,7 +202,9 @@ class OnlineClassifier {
     try {
       cloud = granular_ros::toCloud(*cloud_message);
     } catch (const std::exception& error) {
-      ROS_WARN_STREAM_THROTTLE(10.0, "online_classifier: skipping a cloud: " << error.what());
+      if (cloud_warning_.due()) {
+        ROS_WARN_STREAM("online_classifier: skipping a cloud: " << error.what());
+      }
       return;
     }
     lgsvl_msgs::Detection3DArray output = *detections_message;
@@ -215,8 +218,13 @@ class OnlineClassifier {
       }
     }
     granular::FrameExtraction extraction = granular::extractObjects(cloud, boxes, extraction_);
-    for (const std::string& error : extraction.errors) {
-      ROS_WARN_STREAM_THROTTLE(10.0, "online_classifier: " << error);
+    if (!extraction.errors.empty() && extraction_warning_.due()) {
+      ROS_WARN_STREAM("online_classifier: " << extraction.errors.front()
+                                            << (extraction.errors.size() > 1
+                                                    ? " (and " +
+                                                          std::to_string(extraction.errors.size() - 1) +
+                                                          " more in this frame)"
+                                                    : std::string()));
     }
     // Objects too small to classify keep the label "unknown".
     std::vector<granular::Cloud> objects;
@@ -365,6 +373,8 @@ class OnlineClassifier {
   ros::Publisher latency_publisher_;
   ros::SteadyTimer watchdog_;
   granular_ros::LatencyStats latency_;
+  granular_ros::WallThrottle cloud_warning_;
+  granular_ros::WallThrottle extraction_warning_;
   std::set<std::string> warned_frames_;
   std::map<std::string, Clock::time_point> last_warned_;  ///< by topic
   const Clock::time_point started_ = Clock::now();

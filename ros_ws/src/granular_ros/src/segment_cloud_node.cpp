@@ -25,6 +25,7 @@
 #include "granular_ros/latency.h"
 #include "granular_ros/node_parameters.h"
 #include "granular_ros/tool.h"
+#include "granular_ros/wall_throttle.h"
 
 namespace {
 
@@ -122,7 +123,7 @@ class SegmentCloud {
     try {
       cloud = granular_ros::toCloud(*message);
     } catch (const std::exception& error) {
-      if (warningDue(last_cloud_warning_)) {
+      if (cloud_warning_.due()) {
         ROS_WARN_STREAM("segment_cloud: skipping a cloud: " << error.what());
       }
       return;
@@ -138,7 +139,7 @@ class SegmentCloud {
           granular::checkGround(cloud, segmentation.ground.plane, segmentation.ground.inliers,
                                 ground_config_, message->header.frame_id);
       if (check.verdict != granular::GroundCheck::Verdict::kGround &&
-          warningDue(last_ground_warning_)) {
+          ground_warning_.due()) {
         ROS_WARN_STREAM("segment_cloud: the cloud of " << message->header.stamp << " in frame '"
                                                        << message->header.frame_id
                                                        << "': " << check.problem);
@@ -239,18 +240,8 @@ class SegmentCloud {
   ros::Publisher publisher_;
   ros::Publisher latency_publisher_;
   ros::SteadyTimer timer_;
-  // Warnings at most every 10 s on the wall clock: ROS's throttle reads the bag's clock,
-  // still 0 when the first cloud may come, and then kept the first frame's warning back.
-  static bool warningDue(std::optional<std::chrono::steady_clock::time_point>& last) {
-    const auto now = std::chrono::steady_clock::now();
-    if (last && now - *last < std::chrono::seconds(10)) {
-      return false;
-    }
-    last = now;
-    return true;
-  }
-  std::optional<std::chrono::steady_clock::time_point> last_cloud_warning_;
-  std::optional<std::chrono::steady_clock::time_point> last_ground_warning_;
+  granular_ros::WallThrottle cloud_warning_;
+  granular_ros::WallThrottle ground_warning_;
   granular_ros::LatencyStats latency_;
 };
 

@@ -409,6 +409,28 @@ def test_online_launch_with_exit_when_done_prints_the_latency_summary(drive, tmp
     assert time.monotonic() - started < 240
 
 
+def test_online_launch_warns_of_a_cloud_it_skips_and_goes_on(drive, tmp_path):
+    """A cloud without x, y, z, then two good ones: the node names what the cloud lacks (once a
+    10 s on the wall clock, test_wall_throttle.cpp) and classifies the others."""
+    import bagmaker
+
+    messages = []
+    for index in range(3):
+        t = 0.1 * index
+        cloud = bagmaker.cloud_without_xyz(t) if index == 0 else bagmaker.cloud(t, seq=index)
+        messages += [(bagmaker.CLOUD_TOPIC, cloud),
+                     (bagmaker.DETECTIONS_TOPIC, bagmaker.detections(t, ("Sedan",), index))]
+    bag = bagmaker.write(tmp_path / "frames.bag", messages)
+    result = run(LAUNCH + [REPO_ROOT / "launch" / "online.launch", f"bag:={bag}",
+                           f"models:={drive / 'knn.yml'}", "method:=knn", "rviz:=false",
+                           "exit_when_done:=true"],
+                 env=own_master_environment(), timeout=120)
+    assert result.status == 0, str(result)
+    assert "online_classifier: skipping a cloud: the cloud has no float32 field 'x'" in \
+        result.output, str(result)
+    assert "latency over the whole run: 2 frames" in result.output, str(result)
+
+
 def test_online_launch_with_a_models_folder_for_svm_ends_without_a_traceback(drive):
     """The node's fatal message was clear, then roslaunch's shutdown made the bag player print
     a KeyboardInterrupt traceback."""

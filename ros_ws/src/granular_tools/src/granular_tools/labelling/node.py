@@ -98,6 +98,19 @@ def frame_index(names, text):
     return None
 
 
+class MarkerServer(InteractiveMarkerServer):
+    """The interactive marker server, quiet at shutdown: its keep-alive timer (every 0.5 s, no
+    handle to stop it) could fire after rospy closed its publisher, and rospy printed the
+    ROSException's traceback from the timer's thread."""
+
+    def keepAlive(self, msg):
+        try:
+            super().keepAlive(msg)
+        except rospy.ROSException:
+            if not rospy.is_shutdown():
+                raise
+
+
 class Labeller:
     """The node: rviz feedback, clicks and commands in; markers, the cloud and saves out.
     Every callback holds `lock`: rospy runs them on their own threads."""
@@ -110,7 +123,7 @@ class Labeller:
         self.new_class = next(iter(config.classes))
         self.due = {}  # stamp -> time its frame is saved
         self.cloud_problem = self.save_problem = None
-        self.server = InteractiveMarkerServer("~boxes")
+        self.server = MarkerServer("~boxes")
         self.cloud_publisher = rospy.Publisher("~cloud", PointCloud2, queue_size=1, latch=True)
         self.frame_publisher = rospy.Publisher("~frame", String, queue_size=1, latch=True)
         self.saved_publisher = rospy.Publisher("~saved", String, queue_size=20)

@@ -3,15 +3,13 @@
 // and error measures at the top.)
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "granular_core/cuboids/cuboid_fitter.h"
+#include "support/segment_data.h"
 #include "support/visible_faces.h"
 
 namespace granular {
@@ -20,6 +18,7 @@ namespace {
 using testing_support::moved;
 using testing_support::seenFaces;
 using testing_support::seenFacesAndRoof;
+using testing_support::segmentOnRoad;
 using testing_support::unhiddenBy;
 using testing_support::StandingBox;
 
@@ -496,27 +495,11 @@ TEST(GeometricFitTest, AHeadingLentByTheNeighboursTurnsACarWhosePointsLeftItOpen
   EXPECT_NEAR(lent->box.size().y(), 1.8, 0.02);
 }
 
-// The returns of test/data/`name` (x, y, height above the road) on road(), in its frame.
-std::vector<Eigen::Vector3d> simulatedSegment(const std::string& name) {
-  std::ifstream file(std::string(GRANULAR_CORE_TEST_DATA) + "/" + name);
-  EXPECT_TRUE(file) << "test data missing: " << name;
-  std::vector<Eigen::Vector3d> points;
-  std::string line;
-  while (std::getline(file, line)) {
-    std::istringstream fields(line);
-    double x, y, height;
-    if (line[0] != '#' && fields >> x >> y >> height) {
-      points.emplace_back(x, y, height);
-    }
-  }
-  return points;
-}
-
 TEST(GeometricFitTest, AJeepsRearWithASpareWheelIsNotTurnedByTheWheel) {
   // Seven columns of a Jeep's rear 15.6 m ahead, two of them on the spare wheel 0.2 m nearer:
   // the closeness criterion with d0 0.1 m lines the rectangle up along the wheel and a corner,
   // 22 degrees off; fitted again with d0 0.2 m, the rear's own columns decide.
-  const std::vector<Eigen::Vector3d> seen = simulatedSegment("road_jeep_rear_spare_wheel.xyz");
+  const std::vector<Eigen::Vector3d> seen = segmentOnRoad("road_jeep_rear_spare_wheel.xyz");
   ASSERT_EQ(seen.size(), 53u);
   const GroundPlane ground = road();
   CuboidConfig config;

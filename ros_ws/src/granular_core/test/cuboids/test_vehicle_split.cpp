@@ -1,8 +1,6 @@
 // splitVehicles: touching parked cars are cut apart at the valleys of their height profile.
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <utility>
 
@@ -10,6 +8,7 @@
 
 #include "granular_core/cuboids/free_space.h"
 #include "granular_core/cuboids/vehicle_split.h"
+#include "support/segment_data.h"
 
 namespace granular {
 namespace {
@@ -102,16 +101,9 @@ TEST(VehicleSplitTest, CarsSideBySideSeenFromTheirFrontsAreCutAlongTheRow) {
 // The returns of a segment of the simulated parking lot in test/data (x, y, height above the
 // road a line), in the sensor frame.
 std::vector<Eigen::Vector3d> parkingLotSegment(const std::string& name) {
-  std::ifstream file(std::string(GRANULAR_CORE_TEST_DATA) + "/" + name);
-  EXPECT_TRUE(file) << "test data missing: " << name;
-  std::vector<Eigen::Vector3d> points;
-  std::string line;
-  while (std::getline(file, line)) {
-    std::istringstream fields(line);
-    double x, y, height;
-    if (line[0] != '#' && fields >> x >> y >> height) {
-      points.emplace_back(x, y, height - kSensorHeight);
-    }
+  std::vector<Eigen::Vector3d> points = testing_support::segmentOnRoad(name);
+  for (Eigen::Vector3d& point : points) {
+    point.z() -= kSensorHeight;
   }
   return points;
 }

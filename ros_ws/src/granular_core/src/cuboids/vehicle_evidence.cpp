@@ -197,10 +197,6 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     return static_cast<std::size_t>(((bin + centre_bin) % bins + bins) % bins);
   };
 
-  // Bins across it without a body return are gaps, unless something nearer hides its body
-  // there (a car parked behind another shows only its roof), or the bin is an outermost one:
-  // a sparse sensor's bins are wide, and a car's outermost may hold only its mirror or its
-  // cabin's edge.
   // Whether bin holds a return at most `depth` m nearer than the object whose ray would have
   // met the body band at the object's range: the object's body may lie hidden there.
   const auto hiddenIn = [&](long bin, double depth) {
@@ -218,6 +214,10 @@ VehicleCues VehicleEvidence::measure(const std::vector<Eigen::Vector3d>& points,
     return false;
   };
   constexpr double kAnyDepth = std::numeric_limits<double>::infinity();
+  // Bins across it without a body return are gaps, unless something nearer hides its body
+  // there (a car parked behind another shows only its roof), or the bin is an outermost one:
+  // a sparse sensor's bins are wide, and a car's outermost may hold only its mirror or its
+  // cabin's edge.
   std::size_t bins_seen = 0;
   for (long bin = bin_min; bin <= bin_max; ++bin) {
     if (spans[static_cast<std::size_t>(bin - bin_min)].body > 0) {
